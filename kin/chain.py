@@ -1,0 +1,333 @@
+"""The chain model: joints described by DH rows, limits, base/tool placement, design parameters.
+
+Everything here is in SI units (m, rad).  Robot files carry their own units; :mod:`kin.robotfile`
+converts once, at load.  A DH value (``a``, ``alpha``, ``d``, ``theta``) is either a number or the
+name of a design parameter declared in :attr:`Chain.parameters`, so that design studies can vary it
+and differentiate with respect to it.
+
+Conventions (per row i, joint variable q_i):
+
+* standard (distal) DH:   A_i = Rz(θ_i)·Tz(d_i)·Tx(a_i)·Rx(α_i); joint i moves about/along z_{i-1}
+* modified (proximal) DH: A_i = Rx(α_{i-1})·Tx(a_{i-1})·Rz(θ_i)·Tz(d_i); row i holds a_{i-1}, α_{i-1}
+
+A revolute joint has θ_i = q_i + theta (theta is the offset); a prismatic joint has
+d_i = q_i + d (theta is a fixed angle).  FK = base · A_1 ⋯ A_n · tool.
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field, replace
+from typing import Literal, Mapping, Sequence
+
+import numpy as np
+
+from .errors import ChainError, ConfigurationError, JointLimitError, ParameterError
+from .transforms import make_transform, rot_x, rpy_to_matrix
+
+JointType = Literal["revolute", "prismatic"]
+Convention = Literal["standard", "modified"]
+
+JOINT_TYPES = ("revolute", "prismatic")
+CONVENTIONS = ("standard", "modified")
+LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "in": 0.0254}
+ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
+DH_FIELDS = ("a", "alpha", "d", "theta")
+LENGTH_FIELDS = ("a", "d")
+ANGLE_FIELDS = ("alpha", "theta")
+TASK_ROWS = ("x", "y", "z", "rx", "ry", "rz")
+NAME_RE = re.compile(r"^[a-z0-9_]+$")
+
+Value = float | str  # a number (SI) or the name of a design parameter
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A named design parameter: nominal value and bounds (SI), and whether it is a length or angle."""
+
+    value: float
+    bounds: tuple[float, float]
+    kind: Literal["length", "angle"] = "length"
+
+
+@dataclass(frozen=True)
+class Placement:
+    """A fixed rigid transform (base or tool).
+
+    Given either as ``xyz`` + ``rpy`` (fixed-axis roll-pitch-yaw) or as a full 4×4 ``matrix``; the
+    form is kept so that a robot file saves back the way it was written.  SI units.
+    """
+
+    xyz: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    rpy: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    matrix_: tuple[tuple[float, ...], ...] | None = None
+
+    @property
+    def matrix(self) -> np.ndarray:
+        """The 4×4 homogeneous transform (SI)."""
+        if self.matrix_ is not None:
+            return np.array(self.matrix_, dtype=float)
+        return make_transform(rpy_to_matrix(self.rpy), np.array(self.xyz, dtype=float))
+
+    @property
+    def is_identity(self) -> bool:
+        return bool(np.array_equal(self.matrix, np.eye(4)))
+
+    @classmethod
+    def from_matrix(cls, T: np.ndarray) -> "Placement":
+        T = np.asarray(T, dtype=float)
+        return cls(matrix_=tuple(tuple(float(x) for x in row) for row in T))
+
+
+IDENTITY = Placement()
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One DH row and its joint.  SI units; a DH value may be a design-parameter name."""
+
+    type: JointType
+    a: Value = 0.0
+    alpha: Value = 0.0
+    d: Value = 0.0
+    theta: Value = 0.0
+    limits: tuple[float, float] = (-math.pi, math.pi)
+    name: str | None = None
+    max_velocity: float | None = None       # rad/s or m/s
+    max_acceleration: float | None = None   # rad/s² or m/s²
+
+    @property
+    def is_revolute(self) -> bool:
+        return self.type == "revolute"
+
+
+@dataclass(frozen=True)
+class Chain:
+    """A serial chain of joint modules.
+
+    ``task`` lists the rows of the 6-row geometric Jacobian (``x y z rx ry rz``) that the chain is
+    meant to control; ``None`` picks them automatically (all six for six or more joints, the
+    position rows that are not identically zero otherwise).  Manipulability, σ_min, the condition
+    number and det J are computed on those rows.
+    """
+
+    name: str
+    joints: tuple[Joint, ...]
+    convention: Convention = "standard"
+    title: str = ""
+    source: str = ""
+    length_unit: str = "m"
+    angle_unit: str = "rad"
+    base: Placement = IDENTITY
+    tool: Placement = IDENTITY
+    parameters: Mapping[str, Parameter] = field(default_factory=dict)
+    task: tuple[str, ...] | None = None
+
+    def __post_init__(self):
+        if not self.joints:
+            raise ChainError(f"chain {self.name!r} has no joints; a chain needs at least one")
+        if self.convention not in CONVENTIONS:
+            raise ChainError(f"convention {self.convention!r} unknown; allowed: {', '.join(CONVENTIONS)}")
+        object.__setattr__(self, "joints", tuple(self.joints))
+        object.__setattr__(self, "parameters", dict(self.parameters))
+        for i, j in enumerate(self.joints, 1):
+            if j.type not in JOINT_TYPES:
+                raise ChainError(f"joint {i}: type {j.type!r} unknown; allowed: {', '.join(JOINT_TYPES)}")
+            lo, hi = j.limits
+            if not (math.isfinite(lo) and math.isfinite(hi)) or not lo < hi:
+                raise ChainError(f"joint {i}: limits {j.limits} must be finite with lower < upper")
+            for f in DH_FIELDS:
+                v = getattr(j, f)
+                if isinstance(v, str):
+                    if v not in self.parameters:
+                        raise ChainError(f"joint {i}: {f} refers to undefined parameter {v!r}; "
+                                         f"defined: {', '.join(self.parameters) or 'none'}")
+                elif not math.isfinite(float(v)):
+                    raise ChainError(f"joint {i}: {f} = {v} is not a finite number")
+        if self.task is not None:
+            bad = [r for r in self.task if r not in TASK_ROWS]
+            if bad or not self.task or len(set(self.task)) != len(self.task):
+                raise ChainError(f"task {self.task!r} invalid; rows must be distinct, from {', '.join(TASK_ROWS)}")
+
+    # ---- sizes and limits ------------------------------------------------------------------
+    @property
+    def n(self) -> int:
+        """Number of joints."""
+        return len(self.joints)
+
+    @property
+    def joint_types(self) -> tuple[str, ...]:
+        return tuple(j.type for j in self.joints)
+
+    @property
+    def revolute_mask(self) -> np.ndarray:
+        """Boolean (n,): True for revolute joints."""
+        return np.array([j.is_revolute for j in self.joints])
+
+    @property
+    def lower(self) -> np.ndarray:
+        return np.array([j.limits[0] for j in self.joints])
+
+    @property
+    def upper(self) -> np.ndarray:
+        return np.array([j.limits[1] for j in self.joints])
+
+    @property
+    def limits(self) -> np.ndarray:
+        """Joint limits, shape (n, 2), SI."""
+        return np.array([j.limits for j in self.joints], dtype=float)
+
+    def joint_names(self) -> list[str]:
+        return [j.name or f"q{i}" for i, j in enumerate(self.joints, 1)]
+
+    # ---- design parameters -----------------------------------------------------------------
+    @property
+    def parameter_names(self) -> tuple[str, ...]:
+        return tuple(self.parameters)
+
+    @property
+    def parameter_values(self) -> np.ndarray:
+        """Nominal design-parameter vector, shape (n_p,), in :attr:`parameter_names` order."""
+        return np.array([p.value for p in self.parameters.values()], dtype=float)
+
+    def parameter_vector(self, values: Mapping[str, float] | Sequence[float] | np.ndarray | None = None) -> np.ndarray:
+        """Resolve ``values`` (a mapping name → SI value, or a full vector) into a parameter vector.
+
+        Names not given keep their nominal value.  Unknown names raise :class:`ParameterError`.
+        """
+        p = self.parameter_values
+        if values is None:
+            return p
+        if isinstance(values, Mapping):
+            names = list(self.parameters)
+            for k, v in values.items():
+                if k not in self.parameters:
+                    raise ParameterError(f"unknown design parameter {k!r}; defined: {', '.join(names) or 'none'}")
+                v = float(v)
+                if not math.isfinite(v):
+                    raise ParameterError(f"design parameter {k!r} = {v} is not finite")
+                p[names.index(k)] = v
+            return p
+        arr = np.asarray(values, dtype=float)
+        if arr.shape[-1:] != (len(p),) and not (len(p) == 0 and arr.size == 0):
+            raise ParameterError(f"parameter vector has shape {arr.shape}; expected (..., {len(p)}) "
+                                 f"for {', '.join(self.parameters) or 'no parameters'}")
+        if not np.all(np.isfinite(arr)):
+            raise ParameterError("parameter vector holds NaN or infinite values")
+        return arr
+
+    def resolve(self, value: Value, params: np.ndarray | None = None) -> float:
+        """Numeric value of a DH entry (a number, or a parameter name looked up in ``params``)."""
+        if isinstance(value, str):
+            p = self.parameter_values if params is None else params
+            return float(p[list(self.parameters).index(value)])
+        return float(value)
+
+    def dh_table(self, params: np.ndarray | None = None) -> np.ndarray:
+        """Numeric DH table, shape (n, 4), columns a, alpha, d, theta (SI), parameters resolved."""
+        return np.array([[self.resolve(getattr(j, f), params) for f in DH_FIELDS] for j in self.joints])
+
+    def with_parameters(self, values: Mapping[str, float]) -> "Chain":
+        """A copy of this chain whose parameters have new nominal values (SI)."""
+        vec = self.parameter_vector(values)
+        params = {k: replace(p, value=float(v)) for (k, p), v in zip(self.parameters.items(), vec)}
+        return replace(self, parameters=params)
+
+    def frozen(self, params: np.ndarray | None = None) -> "Chain":
+        """A copy with every parameter name replaced by its (given or nominal) value."""
+        joints = tuple(replace(j, **{f: self.resolve(getattr(j, f), params) for f in DH_FIELDS}) for j in self.joints)
+        return replace(self, joints=joints, parameters={})
+
+    # ---- configurations --------------------------------------------------------------------
+    def as_batch(self, q, what: str = "q") -> tuple[np.ndarray, bool]:
+        """Validate a configuration (n,) or batch (N, n); return (batch (N, n), was_single)."""
+        arr = np.asarray(q, dtype=float)
+        single = arr.ndim == 1
+        if single:
+            arr = arr[None, :]
+        if arr.ndim != 2 or arr.shape[1] != self.n:
+            raise ConfigurationError(f"{what} has shape {np.shape(q)}; expected ({self.n},) or (N, {self.n}) "
+                                     f"for {self.name} ({self.n} joints)")
+        if not np.all(np.isfinite(arr)):
+            bad = np.argwhere(~np.isfinite(arr))[0]
+            raise ConfigurationError(f"{what} holds a non-finite value (row {bad[0]}, joint {bad[1] + 1})")
+        return np.ascontiguousarray(arr), single
+
+    def within_limits(self, q, tol: float = 0.0) -> np.ndarray | bool:
+        """True where every joint is inside its limits (± tol); bool or (N,) bool array."""
+        Q, single = self.as_batch(q)
+        ok = np.all((Q >= self.lower - tol) & (Q <= self.upper + tol), axis=1)
+        return bool(ok[0]) if single else ok
+
+    def limit_violations(self, q, tol: float = 1e-12) -> list[tuple[int, float, tuple[float, float]]]:
+        """The joints of one configuration outside their limits: (1-based index, value, limits), SI."""
+        Q, _ = self.as_batch(q)
+        out = []
+        for i, (v, j) in enumerate(zip(Q[0], self.joints), 1):
+            if v < j.limits[0] - tol or v > j.limits[1] + tol:
+                out.append((i, float(v), j.limits))
+        return out
+
+    def check_limits(self, q, tol: float = 1e-12) -> None:
+        """Raise :class:`JointLimitError` naming the first joint of ``q`` outside its limits."""
+        bad = self.limit_violations(q, tol)
+        if bad:
+            i, v, (lo, hi) = bad[0]
+            unit = "rad" if self.joints[i - 1].is_revolute else "m"
+            raise JointLimitError(f"{self.name}: joint {i} = {v:.6g} {unit} is outside its limits "
+                                  f"[{lo:.6g}, {hi:.6g}] {unit}")
+
+    # ---- task rows -------------------------------------------------------------------------
+    def task_rows(self, zero_rows: Sequence[int] = ()) -> tuple[int, ...]:
+        """Indices (0..5) of the controlled Jacobian rows.
+
+        ``zero_rows`` are rows known to be identically zero (found by the symbolic model); they are
+        dropped from the automatic choice.
+        """
+        if self.task is not None:
+            return tuple(TASK_ROWS.index(r) for r in self.task)
+        if self.n >= 6:
+            return tuple(range(6))
+        return tuple(r for r in range(3) if r not in zero_rows)
+
+    # ---- convention conversion -------------------------------------------------------------
+    def to_modified(self) -> "Chain":
+        """The same machine in modified (proximal) DH.  FK is unchanged.
+
+        The last row's Tx(a_n)·Rx(α_n) moves into the tool transform; it must be numeric.
+        """
+        if self.convention == "modified":
+            return self
+        js = self.joints
+        last = js[-1]
+        if isinstance(last.a, str) or isinstance(last.alpha, str):
+            raise ChainError("cannot convert to modified DH: the last joint's a/alpha is a design "
+                             "parameter and would move into the fixed tool transform")
+        new = []
+        for i, j in enumerate(js):
+            prev = js[i - 1] if i else None
+            new.append(replace(j, a=prev.a if prev else 0.0, alpha=prev.alpha if prev else 0.0))
+        tail = make_transform(rot_x(float(last.alpha)), [float(last.a), 0.0, 0.0])
+        tool = Placement.from_matrix(tail @ self.tool.matrix) if (last.a or last.alpha) else self.tool
+        return replace(self, joints=tuple(new), convention="modified", tool=tool)
+
+    def to_standard(self) -> "Chain":
+        """The same machine in standard (distal) DH.  FK is unchanged.
+
+        The first row's Rx(α_0)·Tx(a_0) moves into the base transform; it must be numeric.
+        """
+        if self.convention == "standard":
+            return self
+        js = self.joints
+        first = js[0]
+        if isinstance(first.a, str) or isinstance(first.alpha, str):
+            raise ChainError("cannot convert to standard DH: the first joint's a/alpha is a design "
+                             "parameter and would move into the fixed base transform")
+        new = []
+        for i, j in enumerate(js):
+            nxt = js[i + 1] if i + 1 < len(js) else None
+            new.append(replace(j, a=nxt.a if nxt else 0.0, alpha=nxt.alpha if nxt else 0.0))
+        head = make_transform(rot_x(float(first.alpha)), [float(first.a), 0.0, 0.0])
+        base = Placement.from_matrix(self.base.matrix @ head) if (first.a or first.alpha) else self.base
+        return replace(self, joints=tuple(new), convention="standard", base=base)
+

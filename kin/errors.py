@@ -1,0 +1,48 @@
+"""Exception hierarchy of rmtkit.
+
+Every error raised on purpose by rmtkit derives from :class:`RmtError`.  Messages name the
+file (when there is one), the field and the allowed values, so that the command line can print
+them as one line and exit with code 2.
+"""
+from __future__ import annotations
+
+
+class RmtError(Exception):
+    """Root of every rmtkit error."""
+
+
+class RobotFileError(RmtError):
+    """A robot file (TOML) is missing, unreadable or invalid.
+
+    ``path`` is the file, ``field`` the offending field (dotted, e.g. ``joints[2].limits``).
+    """
+
+    def __init__(self, message: str, path: str | None = None, field: str | None = None):
+        self.path = path
+        self.field = field
+        where = ": ".join(x for x in (path, field) if x)
+        super().__init__(f"{where}: {message}" if where else message)
+
+
+class UnknownRobotError(RmtError):
+    """A robot name is neither bundled nor an existing file."""
+
+
+class ChainError(RmtError):
+    """A chain is built or transformed inconsistently (programmatic API)."""
+
+
+class ConfigurationError(RmtError, ValueError):
+    """A joint configuration or batch has the wrong shape or non-finite values."""
+
+
+class JointLimitError(ConfigurationError):
+    """A configuration lies outside the joint limits."""
+
+
+class ParameterError(RmtError, ValueError):
+    """A design-parameter vector is wrong (unknown name, wrong length, out of bounds)."""
+
+
+class CompileError(RmtError):
+    """Generated C code failed to compile (the evaluator falls back to CasADi's VM)."""

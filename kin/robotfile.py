@@ -1,0 +1,327 @@
+"""Robot files: TOML load, validation and save (the public file format; see README).
+
+Units are converted once, here: the returned :class:`~kin.chain.Chain` is in SI units and
+remembers the file's units, so that :func:`dumps_robot` writes the values back as they were
+(load → save → load gives an identical chain).
+"""
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .chain import (ANGLE_FIELDS, ANGLE_UNITS, CONVENTIONS, DH_FIELDS, JOINT_TYPES, LENGTH_FIELDS,
+                    LENGTH_UNITS, NAME_RE, TASK_ROWS, Chain, Joint, Parameter, Placement)
+from .errors import ChainError, RobotFileError, UnknownRobotError
+from .transforms import rigidity_defect
+
+ROBOT_DIR = Path(__file__).parent / "robots"
+TOP_FIELDS = ("name", "title", "source", "convention", "length_unit", "angle_unit", "joints", "base",
+              "tool", "parameters", "task")
+REQUIRED_TOP = ("name", "convention", "length_unit", "angle_unit", "joints")
+JOINT_FIELDS = ("type", "a", "alpha", "d", "theta", "limits", "name", "max_velocity", "max_acceleration")
+PLACEMENT_FIELDS = ("xyz", "rpy", "matrix")
+PARAMETER_FIELDS = ("value", "bounds")
+#: A revolute limit beyond this (rad) is almost surely a degree value in a file that says "rad".
+MAX_REVOLUTE_LIMIT = 8 * math.pi
+RIGID_TOL = 1e-6
+
+
+# ---- bundled library ---------------------------------------------------------------------------
+def bundled_robots() -> list[str]:
+    """Names of the robots shipped with rmtkit, sorted."""
+    return sorted(p.stem for p in ROBOT_DIR.glob("*.toml"))
+
+
+def robot_path(name_or_path: str | Path) -> Path:
+    """Resolve a bundled robot name or a file path to an existing file path."""
+    p = Path(name_or_path)
+    if p.suffix == ".toml" or p.exists() or "/" in str(name_or_path):
+        if not p.is_file():
+            raise UnknownRobotError(f"{name_or_path}: no such robot file")
+        return p
+    bundled = ROBOT_DIR / f"{name_or_path}.toml"
+    if bundled.is_file():
+        return bundled
+    raise UnknownRobotError(f"unknown robot {str(name_or_path)!r}; bundled robots: {', '.join(bundled_robots())} "
+                            "(or give a path to a .toml file)")
+
+
+def load_chain(name_or_path: str | Path) -> Chain:
+    """Load a bundled robot by name, or a robot file by path, into a :class:`Chain` (SI units)."""
+    path = robot_path(name_or_path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as e:
+        raise RobotFileError(f"cannot read file ({e})", str(path)) from None
+    return loads_robot(text, str(path))
+
+
+# ---- parsing -----------------------------------------------------------------------------------
+class _Reader:
+    def __init__(self, path: str | None):
+        self.path = path
+
+    def fail(self, field: str | None, msg: str) -> RobotFileError:
+        return RobotFileError(msg, self.path, field)
+
+    def table(self, obj: Any, field: str, allowed: tuple[str, ...]) -> dict:
+        if not isinstance(obj, dict):
+            raise self.fail(field, f"must be a table, got {_tname(obj)}")
+        unknown = [k for k in obj if k not in allowed]
+        if unknown:
+            raise self.fail(f"{field}.{unknown[0]}" if field else unknown[0],
+                            f"unknown field; allowed: {', '.join(allowed)}")
+        return obj
+
+    def number(self, v: Any, field: str) -> float:
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise self.fail(field, f"must be a number, got {_tname(v)} {v!r}")
+        if not math.isfinite(v):
+            raise self.fail(field, f"must be a finite number, got {v}")
+        return float(v)
+
+    def string(self, v: Any, field: str, allowed: tuple[str, ...] | None = None) -> str:
+        if not isinstance(v, str):
+            raise self.fail(field, f"must be a string, got {_tname(v)} {v!r}")
+        if allowed is not None and v not in allowed:
+            raise self.fail(field, f"{v!r} is not allowed; allowed: {', '.join(allowed)}")
+        return v
+
+    def vector(self, v: Any, field: str, size: int) -> list[float]:
+        if not isinstance(v, list) or len(v) != size:
+            raise self.fail(field, f"must be a list of {size} numbers, got {v!r}")
+        return [self.number(x, f"{field}[{i}]") for i, x in enumerate(v)]
+
+    def positive(self, v: Any, field: str) -> float:
+        x = self.number(v, field)
+        if x <= 0:
+            raise self.fail(field, f"must be positive, got {x}")
+        return x
+
+
+def _tname(v: Any) -> str:
+    return {bool: "boolean", int: "integer", float: "number", str: "string", list: "array",
+            dict: "table"}.get(type(v), type(v).__name__)
+
+
+def loads_robot(text: str, path: str | None = None) -> Chain:
+    """Parse and validate robot-file text; ``path`` only names the file in error messages."""
+    r = _Reader(path)
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise r.fail(None, f"not valid TOML ({e})") from None
+    r.table(doc, "", TOP_FIELDS)
+    for k in REQUIRED_TOP:
+        if k not in doc:
+            raise r.fail(k, "missing required field")
+    name = r.string(doc["name"], "name")
+    if not NAME_RE.match(name):
+        raise r.fail("name", f"{name!r} must match [a-z0-9_]+")
+    convention = r.string(doc["convention"], "convention", CONVENTIONS)
+    lu = r.string(doc["length_unit"], "length_unit", tuple(LENGTH_UNITS))
+    au = r.string(doc["angle_unit"], "angle_unit", tuple(ANGLE_UNITS))
+    ls, as_ = LENGTH_UNITS[lu], ANGLE_UNITS[au]
+
+    # parameters: kind from use, values scaled accordingly
+    raw_params = r.table(doc.get("parameters", {}), "parameters", tuple(doc.get("parameters", {})))
+    joints_raw = doc["joints"]
+    if not isinstance(joints_raw, list) or not joints_raw:
+        raise r.fail("joints", "must hold at least one [[joints]] table")
+    kinds: dict[str, str] = {}
+    for i, jr in enumerate(joints_raw):
+        r.table(jr, f"joints[{i}]", JOINT_FIELDS)
+        for f in DH_FIELDS:
+            v = jr.get(f)
+            if isinstance(v, str):
+                if v not in raw_params:
+                    raise r.fail(f"joints[{i}].{f}", f"refers to undefined parameter {v!r}; defined: "
+                                 f"{', '.join(raw_params) or 'none (add a [parameters.NAME] table)'}")
+                kind = "length" if f in LENGTH_FIELDS else "angle"
+                if kinds.setdefault(v, kind) != kind:
+                    raise r.fail(f"joints[{i}].{f}", f"parameter {v!r} is used as both a length and an angle")
+    params: dict[str, Parameter] = {}
+    for pname, pr in raw_params.items():
+        fld = f"parameters.{pname}"
+        r.table(pr, fld, PARAMETER_FIELDS)
+        for k in PARAMETER_FIELDS:
+            if k not in pr:
+                raise r.fail(f"{fld}.{k}", "missing required field")
+        kind = kinds.get(pname, "length")
+        s = ls if kind == "length" else as_
+        val = r.number(pr["value"], f"{fld}.value")
+        lo, hi = r.vector(pr["bounds"], f"{fld}.bounds", 2)
+        if not lo <= hi:
+            raise r.fail(f"{fld}.bounds", f"[{lo}, {hi}] is reversed; write [lower, upper]")
+        if not lo <= val <= hi:
+            raise r.fail(f"{fld}.value", f"{val} lies outside its bounds [{lo}, {hi}]")
+        params[pname] = Parameter(val * s, (lo * s, hi * s), kind)  # type: ignore[arg-type]
+
+    joints = []
+    for i, jr in enumerate(joints_raw):
+        fld = f"joints[{i}]"
+        if "type" not in jr:
+            raise r.fail(f"{fld}.type", f"missing required field; allowed: {', '.join(JOINT_TYPES)}")
+        jtype = r.string(jr["type"], f"{fld}.type", JOINT_TYPES)
+        if "limits" not in jr:
+            raise r.fail(f"{fld}.limits", "missing required field: [lower, upper] of the joint variable")
+        dh = {}
+        for f in DH_FIELDS:
+            v = jr.get(f, 0.0)
+            dh[f] = v if isinstance(v, str) else r.number(v, f"{fld}.{f}") * (ls if f in LENGTH_FIELDS else as_)
+        var_scale = as_ if jtype == "revolute" else ls
+        lo, hi = r.vector(jr["limits"], f"{fld}.limits", 2)
+        if lo == hi:
+            raise r.fail(f"{fld}.limits", f"[{lo}, {hi}] is empty; lower must be below upper")
+        if lo > hi:
+            raise r.fail(f"{fld}.limits", f"[{lo}, {hi}] is reversed; write [lower, upper]")
+        if jtype == "revolute" and max(abs(lo), abs(hi)) * as_ > MAX_REVOLUTE_LIMIT:
+            hint = " (a degree value in a file whose angle_unit is rad?)" if au == "rad" else ""
+            raise r.fail(f"{fld}.limits", f"[{lo}, {hi}] {au} exceeds ±8π rad, four turns{hint}")
+        extra = {}
+        if "name" in jr:
+            extra["name"] = r.string(jr["name"], f"{fld}.name")
+        for k in ("max_velocity", "max_acceleration"):
+            if k in jr:
+                extra[k] = r.positive(jr[k], f"{fld}.{k}") * var_scale
+        joints.append(Joint(jtype, limits=(lo * var_scale, hi * var_scale), **dh, **extra))  # type: ignore[arg-type]
+
+    base = _placement(r, doc.get("base"), "base", ls, as_)
+    tool = _placement(r, doc.get("tool"), "tool", ls, as_)
+    task = None
+    if "task" in doc:
+        t = doc["task"]
+        if not isinstance(t, list) or not t:
+            raise r.fail("task", f"must be a non-empty list of rows from {', '.join(TASK_ROWS)}")
+        task = tuple(r.string(x, f"task[{i}]", TASK_ROWS) for i, x in enumerate(t))
+        if len(set(task)) != len(task):
+            raise r.fail("task", "lists a row twice")
+    title = r.string(doc.get("title", ""), "title")
+    source = r.string(doc.get("source", ""), "source")
+    try:
+        return Chain(name=name, joints=tuple(joints), convention=convention, title=title, source=source,  # type: ignore[arg-type]
+                     length_unit=lu, angle_unit=au, base=base, tool=tool, parameters=params, task=task)
+    except ChainError as e:
+        raise r.fail(None, str(e)) from None
+
+
+def _placement(r: _Reader, raw: Any, fld: str, ls: float, as_: float) -> Placement:
+    if raw is None:
+        return Placement()
+    r.table(raw, fld, PLACEMENT_FIELDS)
+    if "matrix" in raw:
+        if "xyz" in raw or "rpy" in raw:
+            raise r.fail(fld, "give either matrix or xyz/rpy, not both")
+        m = raw["matrix"]
+        if not isinstance(m, list) or len(m) != 4:
+            raise r.fail(f"{fld}.matrix", "must be 4 rows of 4 numbers")
+        rows = [r.vector(row, f"{fld}.matrix[{i}]", 4) for i, row in enumerate(m)]
+        T = np.array(rows)
+        defect = rigidity_defect(T)
+        if defect > RIGID_TOL:
+            raise r.fail(f"{fld}.matrix", f"is not a rigid transform (rotation not orthonormal with det +1, or "
+                         f"bottom row not [0, 0, 0, 1]; defect {defect:.3g} > {RIGID_TOL:g})")
+        T[:3, 3] *= ls
+        return Placement.from_matrix(T)
+    xyz = r.vector(raw.get("xyz", [0.0, 0.0, 0.0]), f"{fld}.xyz", 3)
+    rpy = r.vector(raw.get("rpy", [0.0, 0.0, 0.0]), f"{fld}.rpy", 3)
+    return Placement(xyz=tuple(x * ls for x in xyz), rpy=tuple(x * as_ for x in rpy))  # type: ignore[arg-type]
+
+
+# ---- saving ------------------------------------------------------------------------------------
+def _to_file(x_si: float, scale: float) -> float:
+    """Value in file units whose re-conversion gives back exactly ``x_si`` when one exists."""
+    y = x_si / scale
+    if scale == 1.0 or y * scale == x_si:
+        return y
+    for direction in (math.inf, -math.inf):
+        z = y
+        for _ in range(4):
+            z = math.nextafter(z, direction)
+            if z * scale == x_si:
+                return z
+    return y
+
+
+def _fmt(x: float) -> str:
+    if x == int(x) and abs(x) < 1e15:
+        return f"{x:.1f}"
+    return repr(float(x))
+
+
+def _vec(xs, scale: float = 1.0) -> str:
+    return "[" + ", ".join(_fmt(_to_file(float(x), scale)) for x in xs) + "]"
+
+
+def _str(s: str) -> str:
+    return '"' + s.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
+
+
+def dumps_robot(chain: Chain) -> str:
+    """Robot-file text for ``chain``, written in the chain's own units."""
+    ls, as_ = LENGTH_UNITS[chain.length_unit], ANGLE_UNITS[chain.angle_unit]
+    out = [f"name = {_str(chain.name)}"]
+    if chain.title:
+        out.append(f"title = {_str(chain.title)}")
+    if chain.source:
+        out.append(f"source = {_str(chain.source)}")
+    out += [f"convention = {_str(chain.convention)}", f"length_unit = {_str(chain.length_unit)}",
+            f"angle_unit = {_str(chain.angle_unit)}"]
+    if chain.task is not None:
+        out.append("task = [" + ", ".join(_str(t) for t in chain.task) + "]")
+    for j in chain.joints:
+        out += ["", "[[joints]]"]
+        if j.name:
+            out.append(f"name = {_str(j.name)}")
+        out.append(f"type = {_str(j.type)}")
+        for f in DH_FIELDS:
+            v = getattr(j, f)
+            s = ls if f in LENGTH_FIELDS else as_
+            out.append(f"{f} = {_str(v) if isinstance(v, str) else _fmt(_to_file(float(v), s))}")
+        vs = as_ if j.is_revolute else ls
+        out.append(f"limits = {_vec(j.limits, vs)}")
+        for k in ("max_velocity", "max_acceleration"):
+            v = getattr(j, k)
+            if v is not None:
+                out.append(f"{k} = {_fmt(_to_file(v, vs))}")
+    for label, pl in (("base", chain.base), ("tool", chain.tool)):
+        if pl == Placement():
+            continue
+        out += ["", f"[{label}]"]
+        if pl.matrix_ is not None:
+            rows = [list(row) for row in pl.matrix_]
+            out.append("matrix = [")
+            for i, row in enumerate(rows):
+                cells = [_fmt(x) for x in row[:3]] + [_fmt(_to_file(row[3], ls) if i < 3 else row[3])]
+                out.append("  [" + ", ".join(cells) + "],")
+            out.append("]")
+        else:
+            out.append(f"xyz = {_vec(pl.xyz, ls)}")
+            out.append(f"rpy = {_vec(pl.rpy, as_)}")
+    for pname, p in chain.parameters.items():
+        s = ls if p.kind == "length" else as_
+        out += ["", f"[parameters.{pname}]", f"value = {_fmt(_to_file(p.value, s))}", f"bounds = {_vec(p.bounds, s)}"]
+    return "\n".join(out) + "\n"
+
+
+def save_robot(chain: Chain, path: str | Path) -> Path:
+    """Write ``chain`` as a robot file (atomically: a temporary file, then rename)."""
+    path = Path(path)
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(dumps_robot(chain), encoding="utf-8")
+    tmp.replace(path)
+    return path
+
+
+def with_units(chain: Chain, length_unit: str | None = None, angle_unit: str | None = None) -> Chain:
+    """The same chain, to be displayed and saved in other units (values stay SI inside)."""
+    if length_unit is not None and length_unit not in LENGTH_UNITS:
+        raise ChainError(f"length unit {length_unit!r} unknown; allowed: {', '.join(LENGTH_UNITS)}")
+    if angle_unit is not None and angle_unit not in ANGLE_UNITS:
+        raise ChainError(f"angle unit {angle_unit!r} unknown; allowed: {', '.join(ANGLE_UNITS)}")
+    return replace(chain, length_unit=length_unit or chain.length_unit, angle_unit=angle_unit or chain.angle_unit)

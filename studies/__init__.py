@@ -1,0 +1,1 @@
+"""rmtkit studies: bundled studies, reports, the ``rmt`` command line and benchmarks."""

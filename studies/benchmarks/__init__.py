@@ -1,0 +1,1 @@
+"""rmtkit benchmarks layer."""
