@@ -177,6 +177,29 @@ class Chain:
         """Joint limits, shape (n, 2), SI."""
         return np.array([j.limits for j in self.joints], dtype=float)
 
+    @property
+    def length_scale(self) -> float:
+        """Metres per file length unit."""
+        return LENGTH_UNITS[self.length_unit]
+
+    @property
+    def angle_scale(self) -> float:
+        """Radians per file angle unit."""
+        return ANGLE_UNITS[self.angle_unit]
+
+    @property
+    def variable_scale(self) -> np.ndarray:
+        """SI units per file unit of each joint variable (angle unit for revolute, length for prismatic), (n,)."""
+        return np.where(self.revolute_mask, self.angle_scale, self.length_scale)
+
+    def to_si(self, q_file) -> np.ndarray:
+        """Joint values in the file's units → SI (same shape)."""
+        return np.asarray(q_file, dtype=float) * self.variable_scale
+
+    def from_si(self, q) -> np.ndarray:
+        """Joint values in SI → the file's units (same shape)."""
+        return np.asarray(q, dtype=float) / self.variable_scale
+
     def joint_names(self) -> list[str]:
         return [j.name or f"q{i}" for i, j in enumerate(self.joints, 1)]
 

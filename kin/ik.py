@@ -67,8 +67,9 @@ def solve_ik(robot, T, seed: int = 0, q0=None, mode: str = "auto", restarts: int
     rounds : rounds of fresh random starts for the targets not yet solved.
     tol_position, tol_orientation : success tolerances (m, rad).
 
-    Returns :class:`IKResult`; among successful starts the one nearest ``q0`` (or the first
-    start) is returned, otherwise the one with the smallest residual.
+    Returns :class:`IKResult`; among successful starts the one nearest ``q0`` (or, without q0,
+    nearest the home configuration: zero clipped to the limits) is returned, otherwise the one
+    with the smallest residual.
     """
     if mode not in MODES:
         raise ValueError(f"mode {mode!r} unknown; allowed: {', '.join(MODES)}")
@@ -101,7 +102,8 @@ def solve_ik(robot, T, seed: int = 0, q0=None, mode: str = "auto", restarts: int
     best_dist = np.full(N, np.inf)
     best_resid = np.full(N, np.inf)
     best_pe, best_oe = np.full(N, np.inf), np.full(N, np.inf)
-    ref = None
+    # successful starts are ranked by their distance to q0, or to the home configuration
+    ref = Q0 if Q0 is not None else np.broadcast_to(np.clip(0.0, lo, hi), (N, n))
     for rnd in range(max(rounds, 1)):
         todo = np.nonzero(~best_ok)[0] if rnd else np.arange(N)
         if len(todo) == 0:
@@ -109,8 +111,6 @@ def solve_ik(robot, T, seed: int = 0, q0=None, mode: str = "auto", restarts: int
         starts = [rng.uniform(lo, hi, size=(len(todo), n)) for _ in range(max(restarts, 1))]
         if rnd == 0 and Q0 is not None:
             starts.insert(0, Q0)
-        if ref is None:
-            ref = starts[0].copy()
         K = len(starts)
         tgt = np.tile(todo, K)
         Q, pe, oe = solver.run(np.concatenate(starts), Pt[tgt], None if Rt is None else Rt[tgt], tgt)

@@ -1,0 +1,29 @@
+# rmtkit — `make run` (the main job), `make test`, `make bench`.  Each creates .venv when missing
+# and installs the project into it, so a fresh machine needs only Python 3.11 and the package index.
+PYTHON ?= python3
+VENV   := .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.installed-$(shell cat pyproject.toml | cksum | cut -d' ' -f1)
+
+.PHONY: run test bench install clean
+
+$(STAMP): pyproject.toml
+	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e ".[test]"
+	@rm -f $(VENV)/.installed-* && touch $@
+
+install: $(STAMP)
+
+run: $(STAMP)
+	$(BIN)/rmt study
+
+# pytest's exit code is kept in .venv/.pytest-exit for .ci/run (make itself exits 2 on failure)
+test: $(STAMP)
+	@$(BIN)/python -m pytest -q; rc=$$?; echo $$rc > $(VENV)/.pytest-exit; exit $$rc
+
+bench: $(STAMP)
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e ".[bench]"
+	$(BIN)/python -m studies.benchmarks.bench_kin
+
+clean:
+	rm -rf $(VENV) out build *.egg-info
