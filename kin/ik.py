@@ -138,7 +138,8 @@ class _LM:
 
     def __init__(self, robot, P, scale, tol_position, tol_orientation, max_iter):
         self.robot, self.P, self.scale, self.max_iter = robot, P, scale, max_iter
-        self.tol_cost = (min(tol_position, tol_orientation * scale) * 1e-2) ** 2
+        # iterate well past the success tolerance: LM converges quadratically there, so it is cheap
+        self.tol_cost = (min(tol_position, tol_orientation * scale) * 1e-4) ** 2
 
     def _eval(self, Q, tgt, want):
         P = self.P if self.P.ndim == 1 else self.P[tgt]

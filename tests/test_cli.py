@@ -1,0 +1,153 @@
+"""End-to-end tests of the ``rmt`` command line: output values, units, exit codes, error lines."""
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from studies.cli import main
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_robots_lists_every_bundled_robot(capsys):
+    import kin
+    code, out, _ = run(capsys, "robots", "--json")
+    assert code == 0
+    names = [r["name"] for r in json.loads(out)["robots"]]
+    assert names == kin.bundled_robots()
+    assert {"puma560", "fanuc_m16ib20", "scara_rrp", "ur5e"} <= set(names)
+
+
+def test_fk_json_in_file_units_puma(capsys):
+    # ROBOTS.md §1: q = (90, 0, 90, 0, 0, 0) deg -> p = (-149.09, 921.12, 20.32) mm
+    code, out, err = run(capsys, "fk", "puma560", "90", "0", "90", "0", "0", "0", "--json")
+    assert code == 0 and err == ""
+    d = json.loads(out)
+    assert d["units"] == {"length": "mm", "angle": "deg"}
+    np.testing.assert_allclose(d["position"], [-149.09, 921.12, 20.32], atol=0.005)
+    np.testing.assert_allclose(np.array(d["T"])[:3, :3], [[0, -1, 0], [0, 0, 1], [-1, 0, 0]], atol=1e-12)
+
+
+def test_fk_negative_values_are_joint_values(capsys):
+    code, out, _ = run(capsys, "fk", "fanuc_m16ib20", "0", "-0.5", "0", "0", "0.5", "0", "--json")
+    assert code == 0
+    p = json.loads(out)["position"]
+    # closed form (FANUC, q2 = -0.5, q5 = 0.5; planar in x-z): wrist centre + flange along the tool z axis
+    q2, q5 = -0.5, 0.5
+    a1, a2, a3, d1, d4, d6 = 0.150, 0.770, 0.100, 0.525, 0.740, 0.100
+    # standard DH with alpha1 = -90°: joint-2 rotation about the base -y direction
+    x = a1 + a2 * math.cos(q2) + a3 * math.cos(q2) + d4 * math.sin(q2)
+    z = d1 - a2 * math.sin(q2) - a3 * math.sin(q2) + d4 * math.cos(q2)
+    # flange: d6 along the tool z axis, which is the forearm axis rotated by q5 about the joint-5 axis
+    ang = q2 + q5
+    x += d6 * math.sin(ang)
+    z += d6 * math.cos(ang)
+    np.testing.assert_allclose(p, [x, 0.0, z], atol=1e-12)
+
+
+def test_fk_out_of_limits_warns_but_answers(capsys):
+    code, out, err = run(capsys, "fk", "puma560", "0", "0", "0", "0", "180", "0")
+    assert code == 0
+    assert "joint 5 = 180 deg is outside its limits [-100, 100] deg" in err
+    assert "position" in out
+
+
+def test_jacobian_json_fields_and_units(capsys):
+    code, out, _ = run(capsys, "jacobian", "scara_rrp", "0.3", "1.0", "-150", "--json")
+    assert code == 0
+    d = json.loads(out)
+    J = np.array(d["J"])
+    assert J.shape == (6, 3)
+    # SCARA (mm): det of the position Jacobian = 101250 sin q2 mm² (ROBOTS.md §2), rows x y z
+    assert d["task_rows"] == ["x", "y", "z"]
+    assert d["det"] == pytest.approx(101250 * math.sin(1.0), rel=1e-12)
+    assert d["manipulability"] == pytest.approx(abs(d["det"]), rel=1e-12)
+    s = np.linalg.svd(J[:3], compute_uv=False)
+    assert d["sigma_min"] == pytest.approx(s[-1], rel=1e-10)
+    assert d["condition"] == pytest.approx(s[0] / s[-1], rel=1e-10)
+
+
+def test_jacobian_singular_condition_is_null(capsys):
+    code, out, _ = run(capsys, "jacobian", "planar_2r", "0.4", "0", "--json")
+    d = json.loads(out)
+    assert d["det"] == pytest.approx(0.0, abs=1e-15)
+    assert d["condition"] is None or d["condition"] > 1e12
+
+
+def test_ik_success_and_failure_exit_codes(capsys):
+    code, out, _ = run(capsys, "ik", "puma560", "--xyz", "411.48", "149.09", "489.32", "--rpy", "0", "0", "0",
+                       "--json")
+    d = json.loads(out)
+    assert code == 0 and d["success"] is True
+    assert d["position_error"] < 1e-3 and d["orientation_error"] < 1e-4
+    # the solution really reaches the target: check with fk
+    code, out, _ = run(capsys, "fk", "puma560", *map(str, d["q"]), "--json")
+    np.testing.assert_allclose(json.loads(out)["position"], [411.48, 149.09, 489.32], atol=1e-4)
+    code, out, _ = run(capsys, "ik", "puma560", "--xyz", "5000", "0", "0", "--json")
+    d = json.loads(out)
+    assert code == 1 and d["success"] is False
+    # the PUMA's reach is under 1 m, so the residual is at least 4 m
+    assert d["position_error"] > 4000
+
+
+@pytest.mark.parametrize("argv, fragment", [
+    (["fk", "nosuchrobot", "0"], "unknown robot 'nosuchrobot'"),
+    (["fk", "fanuc_m16ib20", "0", "0"], "got 2 values; fanuc_m16ib20 has 6 joints"),
+    (["fk", "fanuc_m16ib20", "0", "0", "x", "0", "0", "0"], "'x' is not a number"),
+    (["fk", "fanuc_m16ib20", "0", "0", "inf", "0", "0", "0"], "not a finite number"),
+    (["ik", "fanuc_m16ib20", "--xyz", "1", "2"], "--xyz"),
+    (["nosuchcommand"], "invalid choice"),
+    (["fk", "/nonexistent/robot.toml", "0"], "no such robot file"),
+])
+def test_bad_input_exit_2_one_line(capsys, argv, fragment):
+    code, out, err = run(capsys, *argv)
+    assert code == 2
+    assert out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("rmt: error:")
+    assert fragment in lines[0]
+
+
+def test_broken_robot_file_exit_2(capsys, tmp_path):
+    f = tmp_path / "bad.toml"
+    f.write_text('name = "bad"\nconvention = "standard"\nlength_unit = "m"\nangle_unit = "rad"\n'
+                 '[[joints]]\ntype = "revolute"\nlimits = [-170, 170]\n')
+    code, out, err = run(capsys, "fk", str(f), "0")
+    assert code == 2
+    assert str(f) in err and "joints[0].limits" in err and "degree" in err
+
+
+def test_study_writes_results(tmp_path, capsys):
+    code, out, _ = run(capsys, "study", "--out", str(tmp_path))
+    assert code == 0
+    path = tmp_path / "fanuc_m16ib20" / "results.json"
+    d = json.loads(path.read_text())
+    assert d["robot"]["name"] == "fanuc_m16ib20"
+    zero = d["configurations"][0]
+    # ROBOTS.md §3: q = 0 -> p = (1.02, 0, 1.365), R = I; and q5 = 0 is the wrist singularity
+    np.testing.assert_allclose(zero["position"], [1.02, 0, 1.365], atol=1e-12)
+    assert zero["sigma_min"] < 1e-12 and zero["det"] == pytest.approx(0.0, abs=1e-12)
+    assert str(path) in out
+
+
+def test_console_script_no_traceback():
+    # the real entry point in a subprocess: exit code 2 and no traceback on a bad robot
+    proc = subprocess.run([sys.executable, "-m", "studies.cli", "fk", "nosuch", "0"], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert "Traceback" not in proc.stderr and proc.stderr.count("\n") == 1
+
+
+def test_negative_values_in_exponent_form(capsys):
+    code, out, _ = run(capsys, "fk", "fanuc_m16ib20", "-1e-3", "-2.5E-1", "0", "0", "0", "0", "--json")
+    assert code == 0
+    code2, out2, _ = run(capsys, "fk", "fanuc_m16ib20", "-0.001", "-0.25", "0", "0", "0", "0", "--json")
+    assert json.loads(out) == json.loads(out2)

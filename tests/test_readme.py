@@ -1,0 +1,52 @@
+"""The README's examples work as printed: Python blocks run, CLI commands exit 0, and a shown
+plain-text output matches what the command prints."""
+from __future__ import annotations
+
+import re
+import shlex
+from pathlib import Path
+
+import pytest
+
+from studies.cli import main
+
+README = (Path(__file__).parent.parent / "README.md").read_text()
+PY_BLOCKS = re.findall(r"```python\n(.*?)```", README, re.S)
+CONSOLE = re.findall(r"```console\n(.*?)```", README, re.S)
+
+
+def _commands():
+    """(argv, expected output or None) for every `$ rmt ...` line of the README."""
+    out = []
+    for block in CONSOLE:
+        lines = block.splitlines()
+        for i, line in enumerate(lines):
+            if not line.startswith("$ rmt "):
+                continue
+            cmd = line[2:].split("#")[0]
+            shown = []
+            for nxt in lines[i + 1:]:
+                if nxt.startswith("$ "):
+                    break
+                shown.append(nxt)
+            text = "\n".join(shown)
+            out.append((shlex.split(cmd)[1:], None if ("..." in text or not text) else text))
+    return out
+
+
+def test_readme_has_examples():
+    assert len(PY_BLOCKS) >= 2 and len(_commands()) >= 6
+
+
+@pytest.mark.parametrize("i", range(len(PY_BLOCKS)))
+def test_python_block_runs(i):
+    exec(compile(PY_BLOCKS[i], f"README python block {i}", "exec"), {})
+
+
+@pytest.mark.parametrize("argv, shown", _commands(), ids=lambda x: " ".join(x) if isinstance(x, list) else "")
+def test_cli_example(argv, shown, capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)          # `rmt study` writes out/ here
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    if shown is not None:
+        assert out.strip() == shown.strip()
