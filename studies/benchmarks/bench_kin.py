@@ -445,13 +445,11 @@ def run(name: str, quick: bool, log=None) -> dict:
     repeats = 3 if quick else 5
     single_calls = 5_000 if quick else 20_000
 
+    load0 = os.getloadavg()[0]
     say("start-up (cold, warm) in subprocesses ...")
     startup = bench_startup(name)
 
     robot = kin.load_robot(name)
-    if robot.n != 6:
-        raise SystemExit(f"bench_kin: {name} has {robot.n} joints; this benchmark is for 6-joint arms")
-    ev = robot.evaluator
     say(f"batch ({', '.join(f'{n:g}' for n in sizes)}) ...")
     batch = bench_batch(robot, sizes, repeats)
     variants = bench_batch_variants(robot, 100_000, repeats)
@@ -495,6 +493,7 @@ def run(name: str, quick: bool, log=None) -> dict:
         "quick": quick,
         "environment": {"python": platform.python_version(), "numpy": np.__version__, "casadi": casadi.__version__,
                         "machine": platform.machine(), "cpu_count": os.cpu_count(), "backend": robot.backend,
+                        "loadavg_1min_before": load0, "loadavg_1min_after": os.getloadavg()[0],
                         "RMTKIT_THREADS": os.environ.get("RMTKIT_THREADS", "(unset: 0 = all cores)")},
         "batch": batch,
         "batch_variants_100000": variants,
@@ -518,6 +517,8 @@ def format_report(R: dict) -> str:
     L.append(f"bench_kin — {R['robot']} ({env['backend']} backend; {env['cpu_count']} CPUs; "
              f"RMTKIT_THREADS={env['RMTKIT_THREADS']}; python {env['python']}, numpy {env['numpy']}, "
              f"casadi {env['casadi']}){' [quick]' if R['quick'] else ''}")
+    L.append(f"load average (1 min) before / after: {env['loadavg_1min_before']:.2f} / {env['loadavg_1min_after']:.2f}"
+             " — other processes on the machine distort every timing below")
     L.append("")
     L.append("1. batch FK + J(6x6) + manipulability, configurations/s (best / median)")
     for N, rec in R["batch"]["sizes"].items():
@@ -575,7 +576,8 @@ def format_report(R: dict) -> str:
         L.append(f"     jacob0(q) loop                 {_fmt_rate(rr['jacob0_loop']['best_cfg_per_s'])} / "
                  f"{_fmt_rate(rr['jacob0_loop']['median_cfg_per_s'])}")
     if R["ratios"]:
-        L.append("   ratios rmtkit / peer (medians; rmtkit public batch call at N=1e5):")
+        L.append("   ratios rmtkit / peer (medians; rmtkit public batch call at N=1e5, multi-threaded, "
+                 "against single-threaded Python loops of the peers):")
         for k, x in R["ratios"].items():
             L.append(f"     {k:50s} {x:10.1f}x")
     L.append("")
@@ -612,6 +614,9 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     if args.robot not in kin.bundled_robots():
         ap.error(f"unknown robot {args.robot!r}; bundled: {', '.join(kin.bundled_robots())}")
+    n = kin.load_chain(args.robot).n
+    if n != 6:
+        ap.error(f"{args.robot} has {n} joints; this benchmark is for 6-joint arms")
     log = None if args.json else (lambda msg: print(msg, file=sys.stderr, flush=True))
     try:
         R = run(args.robot, args.quick, log)
