@@ -23,7 +23,7 @@ from typing import Literal, Mapping, Sequence
 import numpy as np
 
 from .errors import ChainError, ConfigurationError, JointLimitError, ParameterError
-from .transforms import make_transform, rot_x, rpy_to_matrix
+from .transforms import make_transform, rigidity_defect, rot_x, rpy_to_matrix
 
 JointType = Literal["revolute", "prismatic"]
 Convention = Literal["standard", "modified"]
@@ -142,8 +142,22 @@ class Chain:
                     if v not in self.parameters:
                         raise ChainError(f"joint {i}: {f} refers to undefined parameter {v!r}; "
                                          f"defined: {', '.join(self.parameters) or 'none'}")
+                    # the kind decides the unit a robot file writes the parameter in: it must match its use
+                    kind = "length" if f in LENGTH_FIELDS else "angle"
+                    if self.parameters[v].kind != kind:
+                        raise ChainError(f"joint {i}: {f} uses parameter {v!r} of kind "
+                                         f"{self.parameters[v].kind!r}; a {f} parameter must have kind {kind!r}")
                 elif not math.isfinite(float(v)):
                     raise ChainError(f"joint {i}: {f} = {v} is not a finite number")
+        for label in ("base", "tool"):
+            pl = getattr(self, label)
+            raw = np.array(pl.matrix_ if pl.matrix_ is not None else (*pl.xyz, *pl.rpy), dtype=float)
+            if not np.all(np.isfinite(raw)):
+                raise ChainError(f"{label} placement holds NaN or infinite values")
+            T = pl.matrix
+            if rigidity_defect(T) > 1e-6:
+                raise ChainError(f"{label} placement is not a rigid transform (rotation not orthonormal with "
+                                 f"det +1, or bottom row not [0, 0, 0, 1])")
         if self.task is not None:
             bad = [r for r in self.task if r not in TASK_ROWS]
             if bad or not self.task or len(set(self.task)) != len(self.task):
@@ -292,13 +306,19 @@ class Chain:
         return out
 
     def check_limits(self, q, tol: float = 1e-12) -> None:
-        """Raise :class:`JointLimitError` naming the first joint of ``q`` outside its limits."""
-        bad = self.limit_violations(q, tol)
-        if bad:
-            i, v, (lo, hi) = bad[0]
-            unit = "rad" if self.joints[i - 1].is_revolute else "m"
-            raise JointLimitError(f"{self.name}: joint {i} = {v:.6g} {unit} is outside its limits "
-                                  f"[{lo:.6g}, {hi:.6g}] {unit}")
+        """Raise :class:`JointLimitError` naming the first joint of ``q`` outside its limits.
+
+        ``q`` is one configuration (n,) or a batch (N, n); every row of a batch is checked.
+        """
+        Q, single = self.as_batch(q)
+        for r, row in enumerate(Q):
+            bad = self.limit_violations(row, tol)
+            if bad:
+                i, v, (lo, hi) = bad[0]
+                unit = "rad" if self.joints[i - 1].is_revolute else "m"
+                where = "" if single else f" (row {r})"
+                raise JointLimitError(f"{self.name}: joint {i} = {v:.6g} {unit}{where} is outside its limits "
+                                      f"[{lo:.6g}, {hi:.6g}] {unit}")
 
     # ---- task rows -------------------------------------------------------------------------
     def task_rows(self, zero_rows: Sequence[int] = ()) -> tuple[int, ...]:

@@ -17,6 +17,7 @@ from __future__ import annotations
 import ctypes
 import hashlib
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -35,7 +36,7 @@ from .symbolic import SymbolicChain
 WANT_T, WANT_J, WANT_MANIP, WANT_SIGMA = 1, 2, 4, 8
 WANT_ALL = WANT_T | WANT_J | WANT_MANIP | WANT_SIGMA
 CFLAGS = ["-O3", "-fPIC", "-shared", "-fopenmp", "-fno-math-errno", "-std=c99"]
-KERNEL_VERSION = "1"
+KERNEL_VERSION = "2"
 
 
 def cache_dir() -> Path:
@@ -112,8 +113,10 @@ def numpy_measures(Jt: np.ndarray) -> np.ndarray:
         out[:, 3] = d
         out[:, 0] = np.abs(d)
     else:
-        G = Jt @ Jt.transpose(0, 2, 1) if m <= n else Jt.transpose(0, 2, 1) @ Jt
-        out[:, 0] = np.sqrt(np.maximum(np.linalg.det(G), 0.0))
+        # |Π r_ii| of the QR factor of the tall matrix, accurate at singularities (see kernel_c)
+        A = Jt if m >= n else Jt.transpose(0, 2, 1)
+        R = np.linalg.qr(A, mode="r")
+        out[:, 0] = np.abs(np.prod(np.diagonal(R, axis1=-2, axis2=-1), axis=-1))
     return out
 
 
@@ -130,7 +133,9 @@ class CompiledEvaluator:
         key = hashlib.sha256("\0".join([source, compiler, " ".join(CFLAGS), KERNEL_VERSION, ca.__version__,
                                         sys.platform]).encode()).hexdigest()[:20]
         directory = directory or cache_dir()
-        self.path = directory / f"rmt_{sym.chain.name}_{key}.so"
+        # the chain name only labels the file (the key identifies it); a programmatic Chain may have any name
+        label = re.sub(r"[^A-Za-z0-9_]", "_", sym.chain.name)[:40]
+        self.path = directory / f"rmt_{label}_{key}.so"
         self.cached = self.path.is_file()
         if not self.cached:
             self._compile(source, compiler, directory)

@@ -77,16 +77,33 @@ static void rmt_measures(const double* J, int flags, double* out) {{
       double d = rmt_det(a, RMT_N);
       out[0] = fabs(d); out[3] = d;
     }} else {{
-      enum {{ K = RMT_M < RMT_N ? RMT_M : RMT_N }};
-      double g[K * K];
-      for (int i = 0; i < K; ++i) for (int j = 0; j < K; ++j) {{
-        double acc = 0;
-        if (RMT_M <= RMT_N) for (int k = 0; k < RMT_N; ++k) acc += jt[i*RMT_N+k] * jt[j*RMT_N+k];
-        else for (int k = 0; k < RMT_M; ++k) acc += jt[k*RMT_N+i] * jt[k*RMT_N+j];
-        g[i*K + j] = acc;
+      /* √det(Jt·Jtᵀ) = |Π r_ii| of the QR factor of the tall matrix (Jt or Jtᵀ): Householder QR is
+         backward stable, so the product stays accurate at a singularity, where the Gram
+         determinant would be rounding noise (≈1e-16) and its square root ≈1e-8. */
+      enum {{ R = RMT_M >= RMT_N ? RMT_M : RMT_N, C = RMT_M >= RMT_N ? RMT_N : RMT_M }};
+      double a[R * C];  /* column-major R×C */
+      for (int i = 0; i < C; ++i) for (int k = 0; k < R; ++k)
+        a[i*R + k] = (RMT_M >= RMT_N) ? jt[k*RMT_N + i] : jt[i*RMT_N + k];
+      double prod = 1.0;
+      for (int c = 0; c < C; ++c) {{
+        double norm = 0;
+        for (int k = c; k < R; ++k) norm += a[c*R + k] * a[c*R + k];
+        norm = sqrt(norm);
+        prod *= norm;                       /* |r_cc| = norm of the remaining column */
+        if (norm == 0.0) break;
+        double alpha = a[c*R + c] > 0 ? -norm : norm;
+        double v0 = a[c*R + c] - alpha, vn = v0 * v0;
+        for (int k = c + 1; k < R; ++k) vn += a[c*R + k] * a[c*R + k];
+        if (vn == 0.0) continue;
+        for (int j = c + 1; j < C; ++j) {{  /* apply H = I − 2vvᵀ/vᵀv to the remaining columns */
+          double dot = v0 * a[j*R + c];
+          for (int k = c + 1; k < R; ++k) dot += a[c*R + k] * a[j*R + k];
+          double f = 2.0 * dot / vn;
+          a[j*R + c] -= f * v0;
+          for (int k = c + 1; k < R; ++k) a[j*R + k] -= f * a[c*R + k];
+        }}
       }}
-      double d = rmt_det(g, K);
-      out[0] = sqrt(d > 0 ? d : 0); out[3] = NAN;
+      out[0] = prod; out[3] = NAN;
     }}
   }}
   if (flags & RMT_WANT_SIGMA) {{

@@ -129,7 +129,9 @@ def loads_robot(text: str, path: str | None = None) -> Chain:
     ls, as_ = LENGTH_UNITS[lu], ANGLE_UNITS[au]
 
     # parameters: kind from use, values scaled accordingly
-    raw_params = r.table(doc.get("parameters", {}), "parameters", tuple(doc.get("parameters", {})))
+    raw_params_doc = doc.get("parameters", {})
+    raw_params = r.table(raw_params_doc, "parameters",
+                         tuple(raw_params_doc) if isinstance(raw_params_doc, dict) else ())
     joints_raw = doc["joints"]
     if not isinstance(joints_raw, list) or not joints_raw:
         raise r.fail("joints", "must hold at least one [[joints]] table")
@@ -259,7 +261,21 @@ def _vec(xs, scale: float = 1.0) -> str:
 
 
 def _str(s: str) -> str:
-    return '"' + s.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
+    """A TOML basic string: backslash, quote and every control character (TOML forbids them raw) escaped."""
+    def esc(ch: str) -> str:
+        if ch in '\\"':
+            return "\\" + ch
+        if ch == "\n":
+            return "\\n"
+        if ord(ch) < 0x20 or ord(ch) == 0x7F:
+            return f"\\u{ord(ch):04x}"
+        return ch
+    return '"' + "".join(esc(ch) for ch in s) + '"'
+
+
+def _key(k: str) -> str:
+    """A TOML key: bare when it may be, quoted otherwise (a parameter name may hold any character)."""
+    return k if k and all(ch.isascii() and (ch.isalnum() or ch in "_-") for ch in k) else _str(k)
 
 
 def dumps_robot(chain: Chain) -> str:
@@ -305,7 +321,7 @@ def dumps_robot(chain: Chain) -> str:
             out.append(f"rpy = {_vec(pl.rpy, as_)}")
     for pname, p in chain.parameters.items():
         s = ls if p.kind == "length" else as_
-        out += ["", f"[parameters.{pname}]", f"value = {_fmt(_to_file(p.value, s))}", f"bounds = {_vec(p.bounds, s)}"]
+        out += ["", f"[parameters.{_key(pname)}]", f"value = {_fmt(_to_file(p.value, s))}", f"bounds = {_vec(p.bounds, s)}"]
     return "\n".join(out) + "\n"
 
 

@@ -97,10 +97,3 @@ def fd_jacobian(fk, q, h: float = 1e-6) -> np.ndarray:
         J[3:, i] = rotvec(Tp[:3, :3] @ Tm[:3, :3].T) / (2 * h)
     return J
 
-
-def reach(chain: Chain) -> float:
-    """An upper bound of the distance of the tool point from the base origin (m)."""
-    tab = chain.dh_table()
-    return float(np.abs(tab[:, 0]).sum() + np.abs(tab[:, 2]).sum() + np.abs(chain.limits[~chain.revolute_mask]).max(initial=0)
-                 * (~chain.revolute_mask).sum() + np.linalg.norm(chain.base.matrix[:3, 3])
-                 + np.linalg.norm(chain.tool.matrix[:3, 3]))

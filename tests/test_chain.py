@@ -51,6 +51,30 @@ class TestValidation:
         msg = str(e.value)
         assert "joint 2" in msg and "'L9'" in msg and "L1" in msg and " d " in msg
 
+    def test_parameter_kind_must_match_its_use(self):
+        """An angle parameter declared as a length (the default kind) would be saved in the length unit
+        and read back as an angle: 0.4 rad → 400 (mm) → 400° on reload.  The chain refuses it."""
+        with pytest.raises(kin.ChainError, match=r"'TW'.*'angle'"):
+            Chain(name="x", joints=(Joint("revolute", alpha="TW"),), parameters={"TW": Parameter(0.4, (-1.0, 1.0))})
+        with pytest.raises(kin.ChainError, match=r"'L'.*'length'"):
+            Chain(name="x", joints=(Joint("revolute", d="L"),), parameters={"L": Parameter(0.4, (0.0, 1.0), "angle")})
+        with pytest.raises(kin.ChainError, match="'P'"):  # one parameter used as a length and as an angle
+            Chain(name="x", joints=(Joint("revolute", a="P", theta="P"),), parameters={"P": Parameter(0.4, (0.0, 1.0))})
+        Chain(name="x", joints=(Joint("revolute", a="L", alpha="TW"),),
+              parameters={"L": Parameter(0.4, (0.0, 1.0)), "TW": Parameter(0.4, (-1.0, 1.0), "angle")})
+
+    @pytest.mark.parametrize("label", ["base", "tool"])
+    @pytest.mark.parametrize("placement, word", [
+        (Placement(xyz=(math.nan, 0.0, 0.0)), "NaN"),
+        (Placement(rpy=(0.0, math.inf, 0.0)), "NaN"),
+        (Placement.from_matrix(np.diag([2.0, 2.0, 2.0, 1.0])), "rigid"),    # scaled
+        (Placement.from_matrix(np.diag([1.0, 1.0, -1.0, 1.0])), "rigid"),   # mirrored (det −1)
+    ], ids=["nan_xyz", "inf_rpy", "scaled", "mirrored"])
+    def test_bad_placement(self, label, placement, word):
+        """A NaN placement would make every FK silently NaN; a non-rigid one would distort it."""
+        with pytest.raises(kin.ChainError, match=f"{label}.*{word}"):
+            Chain(name="x", joints=(Joint("revolute", a=1.0),), **{label: placement})
+
     def test_non_finite_dh_value(self):
         with pytest.raises(kin.ChainError, match="alpha"):
             Chain(name="x", joints=(Joint("revolute", alpha=math.nan),))
@@ -206,7 +230,9 @@ class TestConventionConversion:
         Q = random_q(c, 6, seed=len(name))
         mod = c.to_modified()
         assert mod.convention == "modified" and mod.n == c.n
-        _same_fk_and_jacobian(c, mod, Q, robot_check=True)
+        # the product's modified-DH FK too (compiled; a few robots suffice, random chains cover the rest)
+        _same_fk_and_jacobian(c, mod, Q, robot_check=name in ("puma560", "cnc_rrrppp", "solar_concentrator",
+                                                              "stanford_arm"))
         back = mod.to_standard()
         assert back.convention == "standard"
         _same_fk_and_jacobian(c, back, Q, robot_check=False)
