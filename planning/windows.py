@@ -1,0 +1,350 @@
+"""Singular error windows: a neighbourhood in joint space around each factor of the singular set.
+
+A window belongs to one factor g of det J (see :mod:`kin.singularity`):
+
+* a factor of one joint j gives a union of intervals of q_j around its roots, r ± w;
+* any other factor gives the predicate |g(q)| ≤ ε, with ε = w · max‖∇g‖ over sampled points of
+  its zero set, so that every configuration within (first-order) joint distance w of the zero set
+  is inside — the window is at least w wide everywhere.
+
+The width w (rad for revolute joints, m for prismatic ones, SI) comes from an explicit margin,
+from a dexterity threshold (the smallest margin outside which σ_min ≥ s, or manipulability ≥ m,
+found by sampling the factor's neighbourhood), or from a learned-IK error (``design.learned_ik``).
+Windows save to and load from JSON; membership of a batch is vectorised.
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable, Sequence
+
+import numpy as np
+import sympy as sp
+
+from kin.singularity import SingularFactor, SingularityAnalysis, analyse_singularities
+
+from .errors import WindowError
+
+METHODS = ("margin", "sigma_min", "manipulability", "learned")
+#: dexterity margins are widened by this factor beyond the last sample they had to include
+SAFETY = 1.02
+#: a dexterity threshold whose windows would cover more of the joint space than this is refused
+MAX_COVERAGE = 0.5
+
+
+@dataclass
+class Window:
+    """One singular window (SI units).
+
+    ``intervals`` (single-joint factor): list of (lo, hi) on joint ``joints[0]`` (1-based);
+    ``epsilon`` (other factors): |g(q)| ≤ ε with g = ``expr`` in q1…qn.
+    """
+
+    name: str
+    kind: str
+    expr: str
+    joints: tuple[int, ...]
+    width: float
+    method: str
+    n: int
+    intervals: list[tuple[float, float]] | None = None
+    epsilon: float | None = None
+    detail: dict = field(default_factory=dict)
+    _g: Callable | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def is_interval(self) -> bool:
+        return self.intervals is not None
+
+    @property
+    def joint(self) -> int | None:
+        """0-based joint of an interval window."""
+        return self.joints[0] - 1 if self.is_interval else None
+
+    def g(self, Q: np.ndarray) -> np.ndarray:
+        """The factor at a batch (N, n) → (N,)."""
+        if self._g is None:
+            q = sp.symbols(f"q1:{self.n + 1}", real=True)
+            expr = sp.sympify(self.expr, locals={f"q{i + 1}": q[i] for i in range(self.n)})
+            f = sp.lambdify([q], expr, modules="numpy")
+            self._g = lambda Q: np.broadcast_to(np.asarray(f(Q.T), dtype=float), (Q.shape[0],))
+        return self._g(Q)
+
+    def contains(self, Q) -> np.ndarray:
+        """Boolean (N,) — or a bool for one configuration — True inside the window."""
+        arr = np.asarray(Q, dtype=float)
+        single = arr.ndim == 1
+        Q2 = arr.reshape(-1, self.n)
+        if self.is_interval:
+            x = Q2[:, self.joint]
+            inside = np.zeros(len(Q2), bool)
+            for lo, hi in self.intervals:
+                inside |= (x >= lo) & (x <= hi)
+        else:
+            inside = np.abs(self.g(Q2)) <= self.epsilon
+        return bool(inside[0]) if single else inside
+
+    def distance_out(self, Q) -> np.ndarray:
+        """Signed margin (N,): > 0 outside (how far, in joint units for intervals, in |g| − ε
+        otherwise), ≤ 0 inside."""
+        Q2 = np.asarray(Q, dtype=float).reshape(-1, self.n)
+        if self.is_interval:
+            x = Q2[:, self.joint]
+            d = np.full(len(Q2), np.inf)
+            for lo, hi in self.intervals:
+                d = np.minimum(d, np.maximum(lo - x, x - hi))
+            return d
+        return np.abs(self.g(Q2)) - self.epsilon
+
+    def to_dict(self) -> dict:
+        d = {"name": self.name, "kind": self.kind, "expr": self.expr, "joints": list(self.joints),
+             "width": self.width, "method": self.method, "detail": self.detail}
+        if self.is_interval:
+            d["intervals"] = [list(iv) for iv in self.intervals]
+        else:
+            d["epsilon"] = self.epsilon
+        return d
+
+    @classmethod
+    def from_dict(cls, d: dict, n: int, where: str = "windows") -> "Window":
+        try:
+            ivs = d.get("intervals")
+            w = cls(name=str(d["name"]), kind=str(d["kind"]), expr=str(d["expr"]),
+                    joints=tuple(int(j) for j in d["joints"]), width=float(d["width"]), method=str(d["method"]),
+                    n=n, intervals=None if ivs is None else [(float(a), float(b)) for a, b in ivs],
+                    epsilon=None if ivs is not None else float(d["epsilon"]), detail=dict(d.get("detail", {})))
+        except (KeyError, TypeError, ValueError) as e:
+            raise WindowError(f"{where}: window entry is incomplete or malformed ({e}); needs name, kind, expr, "
+                              "joints, width, method and intervals or epsilon") from None
+        if not all(1 <= j <= n for j in w.joints):
+            raise WindowError(f"{where}: window {w.name!r} names joints {w.joints} of a {n}-joint robot")
+        return w
+
+
+@dataclass
+class WindowSet:
+    """All windows of one robot; membership is the union."""
+
+    robot: str
+    n: int
+    windows: list[Window]
+
+    def membership(self, Q) -> np.ndarray:
+        """(N, k) boolean: configuration i inside window j."""
+        Q2 = np.asarray(Q, dtype=float).reshape(-1, self.n)
+        if not self.windows:
+            return np.zeros((len(Q2), 0), bool)
+        return np.stack([w.contains(Q2) for w in self.windows], axis=1)
+
+    def which(self, Q) -> np.ndarray:
+        """(N,) index of the first window each configuration is in, −1 when in none."""
+        M = self.membership(Q)
+        if M.shape[1] == 0:
+            return np.full(len(M), -1)
+        return np.where(M.any(axis=1), M.argmax(axis=1), -1)
+
+    def contains(self, Q) -> np.ndarray | bool:
+        """True where a configuration is inside any window."""
+        arr = np.asarray(Q, dtype=float)
+        inside = self.membership(arr).any(axis=1)
+        return bool(inside[0]) if arr.ndim == 1 else inside
+
+    def to_dict(self) -> dict:
+        return {"robot": self.robot, "n": self.n, "units": "SI (rad, m)",
+                "windows": [w.to_dict() for w in self.windows]}
+
+    def save(self, path: str | Path) -> Path:
+        """Write JSON atomically."""
+        path = Path(path)
+        tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+        tmp.write_text(json.dumps(self.to_dict(), indent=2) + "\n", encoding="utf-8")
+        tmp.replace(path)
+        return path
+
+    @classmethod
+    def load(cls, path: str | Path) -> "WindowSet":
+        path = Path(path)
+        try:
+            d = json.loads(path.read_text(encoding="utf-8"))
+        except FileNotFoundError:
+            raise WindowError(f"{path}: no such windows file") from None
+        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
+            raise WindowError(f"{path}: not a readable JSON windows file ({e})") from None
+        if not isinstance(d, dict) or not isinstance(d.get("windows"), list) or not isinstance(d.get("n"), int):
+            raise WindowError(f"{path}: needs fields robot, n (integer) and windows (list)")
+        return cls(robot=str(d.get("robot", "")), n=d["n"],
+                   windows=[Window.from_dict(w, d["n"], str(path)) for w in d["windows"]])
+
+
+# ---- building windows ----------------------------------------------------------------------------
+def _merge(intervals: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    out: list[list[float]] = []
+    for lo, hi in sorted(intervals):
+        if out and lo <= out[-1][1]:
+            out[-1][1] = max(out[-1][1], hi)
+        else:
+            out.append([lo, hi])
+    return [(a, b) for a, b in out]
+
+
+def window_for_factor(factor: SingularFactor, width: float, method: str, lower: np.ndarray,
+                      upper: np.ndarray, detail: dict | None = None) -> Window:
+    """The window of half-width ``width`` (SI) around ``factor``'s zero set."""
+    if not (width >= 0 and math.isfinite(width)):
+        raise WindowError(f"window width {width} must be a finite number ≥ 0 (rad or m)")
+    n = factor.n
+    name = f"{factor.kind}: {factor.expr}"
+    detail = dict(detail or {})
+    j = factor.single_joint
+    if j is not None:
+        roots = factor.solutions.get("values", [])
+        ivs = _merge([(max(r - width, lower[j]), min(r + width, upper[j])) for r in roots])
+        return Window(name, factor.kind, factor.expr, factor.joints, float(width), method, n, intervals=ivs,
+                      detail=detail)
+    S = factor.samples
+    if len(S) == 0:   # zero set outside the limits: an empty window
+        return Window(name, factor.kind, factor.expr, factor.joints, float(width), method, n, epsilon=-1.0,
+                      detail={**detail, "note": "zero set outside the joint limits"})
+    gn = np.linalg.norm(factor.gradient(S), axis=1)
+    eps = float(width * gn.max())
+    detail.update({"grad_norm_min": float(gn.min()), "grad_norm_max": float(gn.max()),
+                   "width_range": [float(width), float(width * gn.max() / max(gn.min(), 1e-300))]})
+    return Window(name, factor.kind, factor.expr, factor.joints, float(width), method, n, epsilon=eps, detail=detail)
+
+
+def _normal_directions(factor: SingularFactor, S: np.ndarray) -> np.ndarray:
+    j = factor.single_joint
+    if j is not None:
+        D = np.zeros_like(S)
+        D[:, j] = 1.0
+        return D
+    G = factor.gradient(S)
+    return G / np.maximum(np.linalg.norm(G, axis=1, keepdims=True), 1e-300)
+
+
+def _window_distance(factor: SingularFactor, Q: np.ndarray, grad_max: float) -> np.ndarray:
+    """Joint-space distance of configurations from the factor's zero set, in the window's metric:
+    distance to the nearest root for a one-joint factor, |g| / max‖∇g‖ otherwise."""
+    j = factor.single_joint
+    if j is not None:
+        roots = np.array(factor.solutions.get("values", []))
+        if len(roots) == 0:
+            return np.full(len(Q), np.inf)
+        return np.abs(Q[:, j][:, None] - roots[None, :]).min(axis=1)
+    if grad_max <= 0:
+        return np.full(len(Q), np.inf)
+    return np.abs(factor(Q)) / grad_max
+
+
+def dexterity_margins(robot, analysis: SingularityAnalysis, threshold: float, measure: str = "sigma_min",
+                      random_samples: int = 20000, steps: int = 24, seed: int = 0,
+                      max_rounds: int = 50) -> tuple[list[float], dict]:
+    """Smallest margins (one per factor) such that the measure is ≥ ``threshold`` at every sampled
+    configuration outside all windows.
+
+    The samples are uniform in the joint limits plus, for every factor, points of its zero set
+    moved along the factor's normal by geometric steps.  A sample below the threshold and outside
+    every window is charged to the factor it is nearest to (in that window's metric), whose margin
+    grows to include it; this repeats until no sample is left.  Raises :class:`WindowError` when a
+    margin would exceed half the range of the factor's joints (the threshold is too high for this
+    machine: its σ_min stays below it far from any singularity).
+    """
+    if measure not in ("sigma_min", "manipulability"):
+        raise WindowError(f"dexterity measure {measure!r} unknown; allowed: sigma_min, manipulability")
+    if not (threshold > 0 and math.isfinite(threshold)):
+        raise WindowError(f"dexterity threshold {threshold} must be a positive number")
+    chain = robot.chain
+    lo, hi = chain.lower, chain.upper
+    rng = np.random.default_rng(seed)
+    parts = [rng.uniform(lo, hi, size=(random_samples, robot.n))]
+    factors = analysis.factors
+    grad_max = []
+    limits = []
+    for f in factors:
+        S = f.samples
+        limits.append(0.5 * float(min(hi[j - 1] - lo[j - 1] for j in f.joints)))
+        if len(S) == 0:
+            grad_max.append(0.0)
+            continue
+        S = S[rng.choice(len(S), min(len(S), 100), replace=False)]
+        grad_max.append(float(np.linalg.norm(f.gradient(f.samples), axis=1).max()) if f.single_joint is None else 1.0)
+        D = _normal_directions(f, S)
+        ts = np.geomspace(1e-5, limits[-1], steps)
+        for sign in (1.0, -1.0):
+            parts.append((S[:, None, :] + sign * ts[None, :, None] * D[:, None, :]).reshape(-1, robot.n))
+    col = 1 if measure == "sigma_min" else 0
+    widths = np.zeros(len(factors))
+    too_high = (f"{measure} ≥ {threshold:g} cannot be kept by windows around the singular factors of "
+                f"{chain.name}: it stays below that threshold far from its singularities; choose a smaller threshold")
+
+    def charge(Qs: np.ndarray) -> int:
+        """Grow the margins until every low sample of Qs is inside a window; return how many were low."""
+        Qs = Qs[np.all((Qs >= lo) & (Qs <= hi), axis=1)]
+        res, _ = robot.evaluate(Qs, 4 | 8)
+        Ql = Qs[res["measures"][:, col] < threshold]
+        if len(Ql) and not factors:
+            raise WindowError(too_high)
+        dist = np.stack([_window_distance(f, Ql, g) for f, g in zip(factors, grad_max)], axis=1) \
+            if factors else np.zeros((0, 0))
+        for _ in range(max_rounds):
+            outside = np.all(dist > widths[None, :], axis=1)
+            if not outside.any():
+                break
+            near = np.argmin(dist[outside], axis=1)
+            for i in np.unique(near):
+                widths[i] = max(widths[i], float(dist[outside][near == i, i].max()) * SAFETY)
+            over = [i for i in range(len(factors)) if widths[i] > limits[i]]
+            if over:
+                raise WindowError(too_high + f" (the {factors[over[0]].kind} window would exceed "
+                                  f"{limits[over[0]]:.3g})")
+        return len(Ql)
+
+    low = charge(np.concatenate(parts))
+    # check on fresh samples, as a user would, and charge what slipped through
+    for k in range(3):
+        fresh = np.random.default_rng(seed + 1 + k).uniform(lo, hi, size=(random_samples, robot.n))
+        before = widths.copy()
+        charge(fresh)
+        if np.array_equal(before, widths):
+            break
+    if factors:
+        probe = np.random.default_rng(seed + 99).uniform(lo, hi, size=(20000, robot.n))
+        covered = np.any(np.stack([_window_distance(f, probe, g) for f, g in zip(factors, grad_max)], 1)
+                         <= widths[None, :], axis=1).mean()
+        if covered > MAX_COVERAGE:
+            raise WindowError(too_high + f" (the windows would cover {100 * covered:.0f} % of the joint space)")
+    return [float(w) for w in widths], {"threshold": threshold, "measure": measure,
+                                         "samples": int(sum(len(p) for p in parts)), "below_threshold": int(low)}
+
+
+def build_windows(robot, margin: float | Sequence[float] | None = None, sigma_min: float | None = None,
+                  manipulability: float | None = None, analysis: SingularityAnalysis | None = None,
+                  seed: int = 0) -> WindowSet:
+    """Windows for every singular factor of ``robot``; exactly one width source must be given.
+
+    ``margin``: one SI width for all factors, or one per factor (in ``analysis.factors`` order);
+    ``sigma_min`` / ``manipulability``: a dexterity threshold (see :func:`dexterity_margin`).
+    """
+    given = [x is not None for x in (margin, sigma_min, manipulability)]
+    if sum(given) != 1:
+        raise WindowError("give exactly one window width source: margin, sigma_min or manipulability")
+    analysis = analysis or analyse_singularities(robot, seed=seed)
+    lo, hi = robot.chain.lower, robot.chain.upper
+    factors = analysis.factors
+    if margin is not None:
+        widths = list(margin) if isinstance(margin, (list, tuple, np.ndarray)) else [margin] * len(factors)
+        if len(widths) != len(factors):
+            raise WindowError(f"{len(widths)} margins given for {len(factors)} singular factors")
+        for w in widths:
+            if not (float(w) >= 0 and math.isfinite(float(w))):
+                raise WindowError(f"margin {w} must be a finite number ≥ 0 (rad for revolute, m for prismatic)")
+        method, detail = "margin", {}
+    else:
+        method = "sigma_min" if sigma_min is not None else "manipulability"
+        widths, detail = dexterity_margins(robot, analysis, float(sigma_min if sigma_min is not None
+                                                                   else manipulability), method, seed=seed)
+    out = [window_for_factor(f, float(w), method, lo, hi, detail) for f, w in zip(factors, widths)]
+    return WindowSet(robot=robot.name, n=robot.n, windows=out)
