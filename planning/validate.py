@@ -1,0 +1,133 @@
+"""Dense joint-path validation, independent of any planner.
+
+A joint path is a sequence of configurations joined by straight segments in joint space.
+:func:`check_path` interpolates every segment at a fine step (default 0.1° for revolute joints,
+0.1 mm for prismatic ones: a segment gets enough points that no joint moves more than that between
+two checked states) and checks every state for joint limits, singular windows and a σ_min floor,
+and the rows for continuity (largest joint step between consecutive rows).  It reports the first
+violation — the row index where it happens (for a state inside a segment, the segment's first row)
+— and the smallest σ_min along the path.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from kin.errors import ConfigurationError
+
+from .windows import WindowSet
+
+DEFAULT_STEP_ANGLE = math.radians(0.1)   # rad
+DEFAULT_STEP_LENGTH = 1e-4               # m
+KINDS = ("nonfinite", "continuity", "limits", "window", "sigma_min")
+
+
+@dataclass(frozen=True)
+class Violation:
+    """The first problem of a path: row ``index`` (0-based), ``kind`` (one of :data:`KINDS`), text."""
+
+    index: int
+    kind: str
+    detail: str
+
+
+@dataclass(frozen=True)
+class PathCheck:
+    """Result of :func:`check_path` (SI units)."""
+
+    valid: bool
+    first_violation: Violation | None
+    min_sigma: float
+    min_sigma_index: int
+    max_step: float
+    checked_states: int
+
+    def to_dict(self) -> dict:
+        d = asdict(self)
+        d["first_violation"] = None if self.first_violation is None else asdict(self.first_violation)
+        return d
+
+
+def densify(path: np.ndarray, revolute: np.ndarray, step_angle: float = DEFAULT_STEP_ANGLE,
+            step_length: float = DEFAULT_STEP_LENGTH) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Interpolate a path (M, n) so that no joint moves more than its step between states.
+
+    Returns the dense states (K, n), the segment (row) index of each state, and its fraction along
+    that segment (0 at the row itself).  The last row is included with its own index.
+    """
+    P = np.asarray(path, dtype=float)
+    if len(P) == 1:
+        return P.copy(), np.zeros(1, int), np.zeros(1)
+    steps = np.where(revolute, step_angle, step_length)
+    d = np.abs(np.diff(P, axis=0)) / steps
+    counts = np.maximum(np.ceil(d.max(axis=1)).astype(int), 1)      # sub-steps per segment
+    seg = np.repeat(np.arange(len(counts)), counts)
+    frac = np.concatenate([np.arange(c) / c for c in counts])
+    Q = P[seg] + frac[:, None] * (P[seg + 1] - P[seg])
+    return (np.vstack([Q, P[-1]]), np.append(seg, len(P) - 1), np.append(frac, 0.0))
+
+
+def _label(i: int, f: float) -> str:
+    return f"row {i}" if f == 0 else f"between rows {i} and {i + 1} (at {f:.3f} of the segment)"
+
+
+def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float | None = None,
+               step_angle: float = DEFAULT_STEP_ANGLE, step_length: float = DEFAULT_STEP_LENGTH,
+               max_step: float | None = None, limit_tol: float = 1e-9, chunk: int = 200_000) -> PathCheck:
+    """Check a joint path (M, n), SI units, densely.  See the module docstring.
+
+    ``max_step``: largest allowed joint change between consecutive rows (rad or m; None: not checked,
+    only reported).  ``sigma_min``: a floor on σ_min of the task Jacobian along the whole path.
+    """
+    chain = robot.chain
+    P = np.asarray(path, dtype=float)
+    if P.ndim != 2 or P.shape[1] != chain.n or len(P) == 0:
+        raise ConfigurationError(f"path has shape {P.shape}; expected (M, {chain.n}) with M ≥ 1 for {chain.name}")
+    if not (step_angle > 0 and step_length > 0):
+        raise ConfigurationError(f"check steps must be positive, got {step_angle} rad and {step_length} m")
+    first: Violation | None = None
+
+    def note(v: Violation) -> None:
+        nonlocal first
+        if first is None or v.index < first.index:
+            first = v
+
+    bad = ~np.isfinite(P).all(axis=1)
+    if bad.any():
+        i = int(np.argmax(bad))
+        return PathCheck(False, Violation(i, "nonfinite", f"row {i} holds NaN or infinite values"),
+                         math.nan, -1, math.nan, 0)
+    steps = np.abs(np.diff(P, axis=0)) if len(P) > 1 else np.zeros((0, chain.n))
+    max_step_seen = float(steps.max()) if steps.size else 0.0
+    if max_step is not None and steps.size and max_step_seen > max_step:
+        i, j = np.unravel_index(np.argmax(steps > max_step), steps.shape)
+        note(Violation(int(i), "continuity", f"joint {j + 1} moves {steps[i, j]:.6g} between rows {i} and {i + 1}; "
+                                             f"allowed {max_step:.6g}"))
+    Q, seg, frac = densify(P, chain.revolute_mask, step_angle, step_length)
+    lo, hi = chain.lower - limit_tol, chain.upper + limit_tol
+    out = (Q < lo) | (Q > hi)
+    if out.any():
+        k = int(np.argmax(out.any(axis=1)))
+        j = int(np.argmax(out[k]))
+        note(Violation(int(seg[k]), "limits", f"joint {j + 1} = {Q[k, j]:.6g} outside [{chain.lower[j]:.6g}, "
+                                              f"{chain.upper[j]:.6g}] {_label(int(seg[k]), float(frac[k]))}"))
+    if windows is not None and windows.windows:
+        which = windows.which(Q)
+        inside = which >= 0
+        if inside.any():
+            k = int(np.argmax(inside))
+            w = windows.windows[int(which[k])]
+            note(Violation(int(seg[k]), "window", f"inside window '{w.name}' {_label(int(seg[k]), float(frac[k]))}"))
+    sig = np.empty(len(Q))
+    for s in range(0, len(Q), chunk):
+        sig[s:s + chunk] = robot.sigma_min(Q[s:s + chunk])
+    kmin = int(np.argmin(sig))
+    if sigma_min is not None:
+        low = sig < sigma_min
+        if low.any():
+            k = int(np.argmax(low))
+            note(Violation(int(seg[k]), "sigma_min", f"σ_min = {sig[k]:.3g} < {sigma_min:.3g} "
+                                                     f"{_label(int(seg[k]), float(frac[k]))}"))
+    return PathCheck(first is None, first, float(sig[kmin]), int(seg[kmin]), max_step_seen, int(len(Q)))
