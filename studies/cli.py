@@ -20,6 +20,7 @@ import kin
 from kin.transforms import make_transform, rpy_to_matrix
 
 from . import kinematics_study as ks
+from .commands_plan import add_commands as add_plan_commands
 from .commands_singular import add_commands
 from .units import joint_units, pose_to_file, unit_names
 
@@ -252,7 +253,8 @@ def build_parser() -> argparse.ArgumentParser:
                     help="fixed-axis roll-pitch-yaw, file angle unit (omit for position-only IK)")
     sp.add_argument("--q0", nargs="+", metavar="Q", help="initial guess, file units")
     sp.add_argument("--seed", type=int, default=0, help="seed of the random starts (default 0)")
-    add_commands(lambda name, func, text: add(name, lambda args, f=func: f(args, _robot), text))
+    for register in (add_commands, add_plan_commands):
+        register(lambda name, func, text: add(name, lambda args, f=func: f(args, _robot), text))
     sp = add("study", cmd_study, "run a study (default: the bundled FANUC M-16iB/20 study)")
     sp.add_argument("study", metavar="STUDY", nargs="?", help="study .toml file (default: bundled)")
     sp.add_argument("--out", default="out", help="output directory (default: out)")
