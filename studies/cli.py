@@ -22,6 +22,8 @@ from kin.transforms import make_transform, rpy_to_matrix
 from . import kinematics_study as ks
 from .commands_plan import add_commands as add_plan_commands
 from .commands_singular import add_commands
+from .study import run_study
+from .study_report import study_report
 from .units import joint_units, pose_to_file, unit_names
 
 EXIT_OK, EXIT_FAIL, EXIT_USAGE = 0, 1, 2
@@ -198,30 +200,14 @@ def cmd_ik(args) -> int:
 
 def cmd_study(args) -> int:
     study = ks.load_study(args.study or ks.DEFAULT_STUDY)
-    results = ks.run_kinematics_study(study)
     out_dir = Path(args.out) / study["name"]
-    path = ks.write_results(results, out_dir)
+    quiet = args.quiet or args.json
+    progress = None if quiet or not sys.stderr.isatty() else (lambda t: print(f"… {t}", file=sys.stderr))
+    results = run_study(study, out_dir, progress)
     if args.json:
         print(_dump(results))
-        return EXIT_OK
-    if args.quiet:
-        return EXIT_OK
-    rb = results["robot"]
-    print(f"{study.get('title') or study['name']}  [{rb['name']}: {rb['title']}; backend {results['backend']}]")
-    print(f"{rb['convention']} DH ({rb['units']['length']}, {rb['units']['angle']}):")
-    print(f"{'i':>2} {'a':>9} {'alpha':>9} {'d':>9} {'theta':>9}   limits")
-    for r in rb["dh"]:
-        print(f"{r['joint']:>2} " + " ".join(f"{r[f]:>9.4g}" if not isinstance(r[f], str) else f"{r[f]:>9}"
-                                           for f in ("a", "alpha", "d", "theta"))
-              + f"   [{r['limits'][0]:.4g}, {r['limits'][1]:.4g}]")
-    print()
-    print(f"{'configuration':<48} {'x':>8} {'y':>8} {'z':>8} {'manip':>10} {'sigma_min':>10} {'cond':>10}")
-    for r in results["configurations"]:
-        cond = "inf" if r["condition"] is None else f"{r['condition']:.4g}"
-        flag = "" if r["within_limits"] else "  (outside limits)"
-        print(f"{r['label'][:48]:<48} " + " ".join(f"{x:>8.4f}" for x in r["position"])
-              + f" {r['manipulability']:>10.4g} {r['sigma_min']:>10.4g} {cond:>10}{flag}")
-    print(f"\nwrote {path}")
+    elif not args.quiet:
+        print(study_report(results, out_dir / "results.json"))
     return EXIT_OK
 
 

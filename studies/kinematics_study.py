@@ -27,7 +27,7 @@ from .units import jacobian_to_file, joint_units, pose_to_file, unit_names
 
 STUDY_DIR = Path(__file__).parent
 DEFAULT_STUDY = STUDY_DIR / "default_study.toml"
-STUDY_FIELDS = ("name", "title", "robot", "configurations")
+STUDY_FIELDS = ("name", "title", "robot", "configurations", "singularities", "windows", "workspace", "plan")
 CONFIG_FIELDS = ("label", "q")
 
 
@@ -63,7 +63,13 @@ def load_study(path: str | Path) -> dict:
                 or not all(math.isfinite(x) for x in q)):
             raise StudyFileError(f"{path}: {fld}.q: must be a list of finite numbers (robot file units)")
         out.append((str(c.get("label", f"config {i + 1}")), [float(x) for x in q]))
-    return {"name": doc["name"], "title": doc.get("title", ""), "robot": doc["robot"], "configurations": out}
+    study = {"name": doc["name"], "title": doc.get("title", ""), "robot": doc["robot"], "configurations": out}
+    for section in ("singularities", "windows", "workspace", "plan"):
+        if section in doc:
+            if not isinstance(doc[section], dict):
+                raise StudyFileError(f"{path}: {section}: must be a table ([{section}])")
+            study[section] = doc[section]
+    return study
 
 
 def dh_rows(chain: kin.Chain) -> list[dict]:

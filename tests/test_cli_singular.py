@@ -1,0 +1,78 @@
+"""End-to-end tests of `rmt singularities`, `rmt windows` and `rmt workspace`."""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from studies.cli import main
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_singularities_json_scara(capsys):
+    code, out, _ = run(capsys, "singularities", "scara_rrp", "--json")
+    assert code == 0
+    d = json.loads(out)
+    assert set(d) >= {"factors", "method"}
+    [f] = d["factors"]
+    # ROBOTS.md §2: det of the position Jacobian = 101250 sin θ2 — one singularity, θ2 = 0, stretched arm
+    assert f["expr"] == "sin(q2)" and f["kind"] == "boundary" and f["joints"] == [2]
+    assert f["solutions"]["values"] == [0.0]
+    assert {"expr", "kind", "joints", "meaning", "solutions"} <= set(f)
+
+
+def test_singularities_text_puma_in_degrees(capsys):
+    code, out, _ = run(capsys, "singularities", "puma560")
+    assert code == 0
+    assert "[wrist] sin(q5)" in out and "[elbow]" in out and "[shoulder]" in out
+    # elbow: d4·c3 − a3·s3 = 0 with a3 = −20.32, d4 = 433.07 mm → q3 = 90° + atan(20.32/433.07)
+    expected = 90 + math.degrees(math.atan(20.32 / 433.07))
+    assert f"q3 ∈ {{{expected:.6g}}} deg" in out
+
+
+def test_windows_margin_json_and_file(capsys, tmp_path):
+    f = tmp_path / "w.json"
+    code, out, _ = run(capsys, "windows", "puma560", "--margin", "3", "--json", "--out", str(f))
+    assert code == 0
+    d = json.loads(out)
+    wrist = [w for w in d["windows"] if w["kind"] == "wrist"][0]
+    # 3° in the file's degrees = 0.05236 rad around q5 = 0
+    np.testing.assert_allclose(wrist["intervals"], [[-math.radians(3), math.radians(3)]], rtol=1e-12)
+    saved = json.loads(f.read_text())
+    assert saved["windows"][0]["name"] == d["windows"][0]["name"]
+
+
+def test_windows_needs_a_width_source(capsys):
+    code, out, err = run(capsys, "windows", "fanuc_m16ib20")
+    assert code == 2 and "--margin" in err and out == ""
+
+
+def test_windows_threshold_too_high_is_exit_2(capsys):
+    code, _, err = run(capsys, "windows", "ur5e", "--sigma-min", "0.05")
+    assert code == 2 and "choose a smaller threshold" in err and len(err.strip().splitlines()) == 1
+
+
+def test_workspace_json_and_plot(capsys, tmp_path):
+    png = tmp_path / "ws.png"
+    code, out, _ = run(capsys, "workspace", "scara_rrp", "--samples", "20000", "--seed", "3", "--plot", str(png),
+                       "--json")
+    assert code == 0
+    d = json.loads(out)
+    # ROBOTS.md §2: the SCARA is stretched at r = 675 mm; sampled radial reach cannot exceed it
+    assert d["radial_reach"] <= 0.675 + 1e-9 and d["radial_reach"] > 0.66
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize("argv", [["workspace", "scara_rrp", "--samples", "0"],
+                                  ["singularities", "nosuchrobot"],
+                                  ["windows", "scara_rrp", "--margin", "-1"]])
+def test_bad_input_exit_2(capsys, argv):
+    code, out, err = run(capsys, *argv)
+    assert code == 2 and out == "" and err.startswith("rmt: error:") and len(err.strip().splitlines()) == 1
