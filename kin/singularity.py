@@ -325,6 +325,11 @@ def _roots_1d(fun: Callable[[np.ndarray], np.ndarray], lo: float, hi: float, gri
             roots.append(brentq(lambda t: float(fun(np.array([t]))[0]), x[i], x[i + 1], xtol=1e-15, rtol=1e-15))
     if y[-1] == 0:
         roots.append(x[-1])
+    # zeros exactly at a limit (sin q at q = ±2π evaluates to ±2.4e-16, not 0, and no sign change
+    # follows inside the range): kept when |g| there is at the rounding-noise level
+    for k in (0, grid - 1):
+        if y[k] != 0 and abs(y[k]) < 1e-12 * scale:
+            roots.append(x[k])
     # touching zeros: local minima of |g| that are tiny
     a = np.abs(y)
     for i in range(1, grid - 1):

@@ -31,6 +31,9 @@ from .errors import WindowError
 METHODS = ("margin", "sigma_min", "manipulability", "learned")
 #: dexterity margins are widened by this factor beyond the last sample they had to include
 SAFETY = 1.02
+#: the margins are built so that the measure stays ≥ threshold × this on the samples: a little
+#: slack for the configurations that no finite sample set visits
+BUILD_MARGIN = 1.2
 #: a dexterity threshold whose windows would cover more of the joint space than this is refused
 MAX_COVERAGE = 0.5
 
@@ -239,8 +242,48 @@ def _window_distance(factor: SingularFactor, Q: np.ndarray, grad_max: float) -> 
     return np.abs(factor(Q)) / grad_max
 
 
+def _corner_samples(factors, limits, rng, widths=None, count: int = 300) -> list[np.ndarray]:
+    """Configurations near where two factors meet (one of them a one-joint factor): the other
+    factor's zero-set samples with the one joint set near one of its roots, both moved off their
+    zero sets by random steps — the corners that uniform sampling rarely reaches."""
+    out = []
+    for a, fa in enumerate(factors):
+        j = fa.single_joint
+        roots = fa.solutions.get("values", []) if j is not None else []
+        if not roots:
+            continue
+        for b, fb in enumerate(factors):
+            if b == a or len(fb.samples) == 0:
+                continue
+            S = fb.samples[rng.integers(len(fb.samples), size=count)].copy()
+            scale_a = limits[a] if widths is None or widths[a] == 0 else 3 * widths[a]
+            S[:, j] = np.asarray(roots)[rng.integers(len(roots), size=count)] + rng.uniform(-1, 1, count) * scale_a
+            D = _normal_directions(fb, fb.samples[:1].repeat(count, 0)) if fb.single_joint is not None else None
+            scale_b = limits[b] if widths is None or widths[b] == 0 else 3 * widths[b]
+            step = rng.uniform(-1, 1, count)[:, None] * scale_b
+            if D is not None:
+                S += step * D
+            else:
+                G = fb.gradient(S)
+                S += step * G / np.maximum(np.linalg.norm(G, axis=1, keepdims=True), 1e-300)
+            out.append(S)
+    # corners of all one-joint factors at once (wrist and elbow together, next to the shoulder)
+    singles = [(a, f) for a, f in enumerate(factors) if f.single_joint is not None and f.solutions.get("values")]
+    if len(singles) >= 2:
+        bases = [f.samples for f in factors if f.single_joint is None and len(f.samples)]
+        for base in bases or [None]:
+            S = (base[rng.integers(len(base), size=count * 4)] if base is not None
+                 else np.repeat(factors[singles[0][0]].samples[:1], count * 4, axis=0)).copy()
+            for a, f in singles:
+                roots = np.asarray(f.solutions["values"])
+                scale = limits[a] if widths is None or widths[a] == 0 else 3 * widths[a]
+                S[:, f.single_joint] = roots[rng.integers(len(roots), size=len(S))] + rng.uniform(-1, 1, len(S)) * scale
+            out.append(S)
+    return out
+
+
 def dexterity_margins(robot, analysis: SingularityAnalysis, threshold: float, measure: str = "sigma_min",
-                      random_samples: int = 20000, steps: int = 24, seed: int = 0,
+                      random_samples: int = 40000, steps: int = 24, seed: int = 0,
                       max_rounds: int = 50) -> tuple[list[float], dict]:
     """Smallest margins (one per factor) such that the measure is ≥ ``threshold`` at every sampled
     configuration outside all windows.
@@ -275,6 +318,7 @@ def dexterity_margins(robot, analysis: SingularityAnalysis, threshold: float, me
         ts = np.geomspace(1e-5, limits[-1], steps)
         for sign in (1.0, -1.0):
             parts.append((S[:, None, :] + sign * ts[None, :, None] * D[:, None, :]).reshape(-1, robot.n))
+    parts += _corner_samples(factors, limits, rng)
     col = 1 if measure == "sigma_min" else 0
     widths = np.zeros(len(factors))
     too_high = (f"{measure} ≥ {threshold:g} cannot be kept by windows around the singular factors of "
@@ -284,7 +328,7 @@ def dexterity_margins(robot, analysis: SingularityAnalysis, threshold: float, me
         """Grow the margins until every low sample of Qs is inside a window; return how many were low."""
         Qs = Qs[np.all((Qs >= lo) & (Qs <= hi), axis=1)]
         res, _ = robot.evaluate(Qs, 4 | 8)
-        Ql = Qs[res["measures"][:, col] < threshold]
+        Ql = Qs[res["measures"][:, col] < threshold * BUILD_MARGIN]
         if len(Ql) and not factors:
             raise WindowError(too_high)
         dist = np.stack([_window_distance(f, Ql, g) for f, g in zip(factors, grad_max)], axis=1) \
@@ -303,12 +347,17 @@ def dexterity_margins(robot, analysis: SingularityAnalysis, threshold: float, me
         return len(Ql)
 
     low = charge(np.concatenate(parts))
-    # check on fresh samples, as a user would, and charge what slipped through
-    for k in range(3):
-        fresh = np.random.default_rng(seed + 1 + k).uniform(lo, hi, size=(random_samples, robot.n))
+    # check on fresh samples, as a user would, and charge what slipped through, until three rounds
+    # in a row find nothing new
+    clean = 0
+    for k in range(12):
+        fresh_rng = np.random.default_rng(seed + 1 + k)
+        fresh = [fresh_rng.uniform(lo, hi, size=(random_samples, robot.n)), *_corner_samples(factors, limits,
+                                                                                              fresh_rng, widths)]
         before = widths.copy()
-        charge(fresh)
-        if np.array_equal(before, widths):
+        charge(np.concatenate(fresh))
+        clean = clean + 1 if np.array_equal(before, widths) else 0
+        if clean == 3:
             break
     if factors:
         probe = np.random.default_rng(seed + 99).uniform(lo, hi, size=(20000, robot.n))

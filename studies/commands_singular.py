@@ -102,8 +102,9 @@ def cmd_windows(args, load_robot) -> int:
     elif args.sigma_min is not None:
         ws = build_windows(robot, sigma_min=args.sigma_min, analysis=analysis, seed=args.seed)
     else:
-        from design.learned_ik import learned_windows
+        from design.learned_ik import jsonable_report, learned_windows
         ws, reports = learned_windows(robot, analysis=analysis, seed=args.seed)
+        reports = [jsonable_report(r) for r in reports]
     if args.out:
         ws.save(args.out)
     out = ws.to_dict()
@@ -113,10 +114,12 @@ def cmd_windows(args, load_robot) -> int:
         print(_dump(_jsonable(out)))
         return 0
     print(_windows_text(robot, ws))
-    if reports:
-        for r in reports:
-            if r.get("thesis_window") is not None:
-                print(f"  thesis's published window: {r['thesis_window']}; learned here: {r.get('window')}")
+    for r in reports or []:
+        t = r.get("thesis")
+        if t:
+            print(f"  the thesis published {t['joint']} ∈ [{t['interval'][0]:g}, {t['interval'][1]:g}] rad "
+                  f"(half-width {t['width']:g}); learned here: half-width {t['ours_width']:.4g} rad "
+                  f"({t['ours_over_thesis']:.1f}× wider)")
     if args.out:
         print(f"wrote {args.out}")
     return 0
