@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from .chain import (ANGLE_FIELDS, ANGLE_UNITS, CONVENTIONS, DH_FIELDS, JOINT_TYPES, LENGTH_FIELDS,
+from .chain import (ANGLE_UNITS, CONVENTIONS, DH_FIELDS, JOINT_TYPES, LENGTH_FIELDS,
                     LENGTH_UNITS, NAME_RE, TASK_ROWS, Chain, Joint, Parameter, Placement)
 from .errors import ChainError, RobotFileError, UnknownRobotError
 from .transforms import rigidity_defect

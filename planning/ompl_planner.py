@@ -22,7 +22,7 @@ import numpy as np
 from kin.errors import ConfigurationError
 
 from .errors import PlanningError
-from .ompl_setup import ob, og, ou, quiet_rng_seed
+from .ompl_setup import ob, og, quiet_rng_seed
 from .validate import DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, PathCheck, check_path
 from .validity import JointSpaceChecker, KeepOutBox
 
