@@ -101,7 +101,7 @@ def cmd_windows(args, load_robot) -> int:
     elif args.sigma_min is not None:
         ws = build_windows(robot, sigma_min=args.sigma_min, analysis=analysis, seed=args.seed)
     else:
-        from design.learned_ik import jsonable_report, learned_windows
+        from design.learned_windows import jsonable_report, learned_windows
         ws, reports = learned_windows(robot, analysis=analysis, seed=args.seed)
         reports = [jsonable_report(r) for r in reports]
     if args.out:

@@ -23,8 +23,8 @@ from kin.robotfile import ROBOT_DIR
 from kin.singularity import analyse_singularities
 from planning.windows import WindowSet
 
-from design.learned_ik import (LearnedIK, LearnedIKError, jsonable_report, learned_window, learned_windows,
-                               resolve_branch)
+from design.learned_ik import LearnedIK, LearnedIKError, resolve_branch
+from design.learned_windows import jsonable_report, learned_window, learned_windows
 
 MM = 1e-3
 FRESH_SEED = 20240611          # a seed the module never uses internally for these draws
