@@ -43,9 +43,15 @@ def test_python_block_runs(i):
     exec(compile(PY_BLOCKS[i], f"README python block {i}", "exec"), {})
 
 
+@pytest.fixture(scope="module")
+def workdir(tmp_path_factory):
+    """One directory for all README commands, run in order: later ones read what earlier ones wrote."""
+    return tmp_path_factory.mktemp("readme")
+
+
 @pytest.mark.parametrize("argv, shown", _commands(), ids=lambda x: " ".join(x) if isinstance(x, list) else "")
-def test_cli_example(argv, shown, capsys, tmp_path, monkeypatch):
-    monkeypatch.chdir(tmp_path)          # `rmt study` writes out/ here
+def test_cli_example(argv, shown, capsys, workdir, monkeypatch):
+    monkeypatch.chdir(workdir)           # `rmt study` writes out/ here, `rmt plan --out` its CSV
     assert main(argv) == 0
     out = capsys.readouterr().out
     if shown is not None:
