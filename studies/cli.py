@@ -20,6 +20,7 @@ import kin
 from kin.transforms import make_transform, rpy_to_matrix
 
 from . import kinematics_study as ks
+from .commands_follow import add_commands as add_follow_commands
 from .commands_plan import add_commands as add_plan_commands
 from .commands_singular import add_commands
 from .commands_toolpath import add_commands as add_toolpath_commands
@@ -240,7 +241,7 @@ def build_parser() -> argparse.ArgumentParser:
                     help="fixed-axis roll-pitch-yaw, file angle unit (omit for position-only IK)")
     sp.add_argument("--q0", nargs="+", metavar="Q", help="initial guess, file units")
     sp.add_argument("--seed", type=int, default=0, help="seed of the random starts (default 0)")
-    for register in (add_commands, add_plan_commands, add_toolpath_commands):
+    for register in (add_commands, add_plan_commands, add_toolpath_commands, add_follow_commands):
         register(lambda name, func, text: add(name, lambda args, f=func: f(args, _robot), text))
     sp = add("study", cmd_study, "run a study (default: the bundled FANUC M-16iB/20 study)")
     sp.add_argument("study", metavar="STUDY", nargs="?", help="study .toml file (default: bundled)")
