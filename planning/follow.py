@@ -62,27 +62,45 @@ Default joint-speed limit when the robot file gives none (``Joint.max_velocity``
 :data:`DEFAULT_V_MAX_REVOLUTE` = π rad/s (180°/s, the speed of a UR arm's base joints) and
 :data:`DEFAULT_V_MAX_PRISMATIC` = 0.5 m/s.
 
-:func:`resolved_rate` is the naive method the follower is compared with: open-loop resolved-rate
-control q_{k+1} = q_k + J⁻¹·ẋ_des·Δt, with ``np.linalg.solve`` — and, where ``solve`` raises because
-J is exactly singular, the pseudo-inverse (``np.linalg.pinv``), recorded per step together with the
-condition number of J.
+This module holds :func:`follow_path`; its pieces live in their own modules and are re-exported
+here, the place to import from: :class:`FollowResult` and :func:`window_ranges`
+(:mod:`planning.follow_result`); :class:`FollowError`, the speed-limit defaults,
+:func:`joint_velocity_limits` and the checks of path and start (:mod:`planning.follow_inputs`); the
+window margins d_w (:mod:`planning.follow_barriers`); :func:`tracking_errors`
+(:mod:`planning.tracking_errors`).
+
+:func:`resolved_rate` (:mod:`planning.resolved_rate`, re-exported here) is the naive method the
+follower is compared with: open-loop resolved-rate control q_{k+1} = q_k + J⁻¹·ẋ_des·Δt, with
+``np.linalg.solve`` — and, where ``solve`` raises because J is exactly singular, the pseudo-inverse
+(``np.linalg.pinv``), recorded per step together with the condition number of J.
 """
 from __future__ import annotations
 
 import math
 from collections import Counter
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Sequence
 
 import numpy as np
 import osqp
 import scipy.sparse as sps
-import sympy as sp
 
-from kin.errors import ConfigurationError
-from kin.transforms import rotation_error
-
-from .errors import PlanningError
+from .follow_barriers import _Barrier
+from .follow_inputs import (
+    DEFAULT_V_MAX_PRISMATIC,
+    DEFAULT_V_MAX_REVOLUTE,
+    FollowError,
+    _check_start,
+    _path_arrays,
+    joint_velocity_limits,
+)
+from .follow_result import FollowResult, window_ranges
+from .resolved_rate import ResolvedRateResult, resolved_rate
+from .tracking_errors import (
+    _any_perpendicular,
+    _log_rot,
+    _task_error_norms,
+    tracking_errors,
+)
 from .windows import Window, WindowSet
 
 __all__ = ["follow_path", "resolved_rate", "FollowResult", "ResolvedRateResult", "FollowError", "MODES",
@@ -90,273 +108,10 @@ __all__ = ["follow_path", "resolved_rate", "FollowResult", "ResolvedRateResult",
            "tracking_errors"]
 
 MODES = ("pose", "axis", "position")
-DEFAULT_V_MAX_REVOLUTE = math.pi     # rad/s, used when a revolute joint has no max_velocity
-DEFAULT_V_MAX_PRISMATIC = 0.5        # m/s, used when a prismatic joint has no max_velocity
 LAMBDA_MIN = 1e-9                    # always-on regularisation: P stays positive definite
 OSQP_SETTINGS = dict(verbose=False, eps_abs=1e-9, eps_rel=1e-9, eps_prim_inf=1e-7, eps_dual_inf=1e-7,
                      max_iter=20000, polishing=False, warm_starting=True, adaptive_rho=True)
 _OK = ("solved", "solved inaccurate")
-
-
-class FollowError(PlanningError, ValueError):
-    """A path-following request is invalid (bad path, start, limits or settings)."""
-
-
-# ---- results ---------------------------------------------------------------------------------------
-@dataclass
-class FollowResult:
-    """Result of :func:`follow_path` (SI units).
-
-    Arrays have one row per waypoint: ``q`` (N, n); ``t`` (N,) s; ``position_error`` (N,) m;
-    ``orientation_error`` (N,) rad — the full rotation angle between achieved and target orientation;
-    ``axis_error`` (N,) rad — the angle between the achieved and target tool z axes;
-    ``joint_velocity`` (N, n) — (q_k − q_{k−1})/Δt (row 0 is zero), ``joint_speed`` its magnitude;
-    ``in_window`` (N,) — index of the first window q_k is inside, −1 for none; ``forced`` (N,) —
-    True where the step that ended at row k had to drop a window barrier (stage 2); ``sigma_min``
-    (N,) — smallest singular value of the robot's task Jacobian.
-    """
-
-    mode: str
-    t: np.ndarray
-    q: np.ndarray
-    position_error: np.ndarray
-    orientation_error: np.ndarray
-    axis_error: np.ndarray
-    joint_velocity: np.ndarray
-    joint_speed: np.ndarray
-    in_window: np.ndarray
-    forced: np.ndarray
-    sigma_min: np.ndarray
-    v_max: np.ndarray
-    tolerance: tuple[float, float]
-    qp_status: dict[str, int] = field(default_factory=dict)
-    window_names: list[str] = field(default_factory=list)
-
-    @property
-    def peak_joint_speed(self) -> float:
-        """Largest joint speed over the path (rad/s or m/s)."""
-        return float(self.joint_speed.max()) if self.joint_speed.size else 0.0
-
-    @property
-    def max_tracking_error(self) -> float:
-        """Largest position error (m)."""
-        return float(self.position_error.max())
-
-    @property
-    def max_orientation_error(self) -> float:
-        """Largest orientation error the mode tracks (rad): full angle (pose), tool-axis angle (axis),
-        NaN for position mode (not tracked)."""
-        if self.mode == "pose":
-            return float(self.orientation_error.max())
-        if self.mode == "axis":
-            return float(self.axis_error.max())
-        return math.nan
-
-    @property
-    def within_tolerance(self) -> bool:
-        """Position error ≤ tolerance[0] at every waypoint and, unless position mode, the tracked
-        orientation error ≤ tolerance[1]."""
-        ok = self.max_tracking_error <= self.tolerance[0]
-        return bool(ok and (self.mode == "position" or self.max_orientation_error <= self.tolerance[1]))
-
-    @property
-    def speed_ratio(self) -> float:
-        """max_k,j |q̇_kj| / v_max_j (≤ 1 when the speed limits hold)."""
-        return float((self.joint_speed / self.v_max[None, :]).max()) if self.joint_speed.size else 0.0
-
-    def window_ranges(self) -> list[dict]:
-        """Waypoint ranges inside each window: [{"window", "name", "ranges": [[first, last], ...],
-        "waypoints"}] for the windows that were entered."""
-        return window_ranges(self.in_window, self.window_names)
-
-    def summary(self) -> dict:
-        """Scalars and window ranges (JSON-friendly; NaN stays NaN)."""
-        return {"mode": self.mode, "waypoints": int(len(self.t)), "duration_s": float(self.t[-1] - self.t[0]),
-                "peak_joint_speed": self.peak_joint_speed, "speed_ratio": self.speed_ratio,
-                "max_position_error_m": self.max_tracking_error,
-                "max_orientation_error_rad": float(self.orientation_error.max()),
-                "max_axis_error_rad": float(self.axis_error.max()),
-                "tolerance": {"position_m": self.tolerance[0], "orientation_rad": self.tolerance[1]},
-                "within_tolerance": self.within_tolerance, "forced_steps": int(self.forced.sum()),
-                "min_sigma": float(self.sigma_min.min()), "qp_status": dict(self.qp_status),
-                "windows_entered": self.window_ranges()}
-
-
-@dataclass
-class ResolvedRateResult:
-    """Result of :func:`resolved_rate` (SI units); arrays as in :class:`FollowResult`.
-
-    ``condition`` (N−1,): condition number of J at each step (inf when exactly singular);
-    ``pinv_steps``: steps where ``np.linalg.solve`` raised (J exactly singular) and the
-    pseudo-inverse was used; ``diverged_at``: first row whose configuration is not finite (None when
-    all are); rows from there on are NaN.
-    """
-
-    t: np.ndarray
-    q: np.ndarray
-    position_error: np.ndarray
-    orientation_error: np.ndarray
-    joint_velocity: np.ndarray
-    joint_speed: np.ndarray
-    condition: np.ndarray
-    pinv_steps: list[int]
-    diverged_at: int | None
-    method: str
-
-    @property
-    def peak_joint_speed(self) -> float:
-        return float(np.nanmax(self.joint_speed)) if np.isfinite(self.joint_speed).any() else math.inf
-
-    @property
-    def max_tracking_error(self) -> float:
-        return float(np.nanmax(self.position_error))
-
-    @property
-    def max_orientation_error(self) -> float:
-        return float(np.nanmax(self.orientation_error))
-
-    def summary(self) -> dict:
-        finite = self.condition[np.isfinite(self.condition)]
-        return {"method": self.method, "waypoints": int(len(self.t)),
-                "peak_joint_speed": self.peak_joint_speed, "max_position_error_m": self.max_tracking_error,
-                "max_orientation_error_rad": self.max_orientation_error,
-                "pinv_steps": len(self.pinv_steps), "first_pinv_steps": self.pinv_steps[:5],
-                "max_finite_condition": float(finite.max()) if finite.size else None,
-                "singular_steps": int((~np.isfinite(self.condition)).sum()), "diverged_at": self.diverged_at}
-
-
-# ---- helpers ---------------------------------------------------------------------------------------
-def joint_velocity_limits(robot, v_max=None) -> np.ndarray:
-    """Per-joint speed limits (n,), SI.  ``v_max``: None (the robot file's ``max_velocity``, or the
-    defaults :data:`DEFAULT_V_MAX_REVOLUTE` / :data:`DEFAULT_V_MAX_PRISMATIC` where it gives none),
-    a scalar for every joint, or an array (n,)."""
-    n = robot.n
-    if v_max is None:
-        return np.array([j.max_velocity if j.max_velocity is not None else
-                         (DEFAULT_V_MAX_REVOLUTE if j.is_revolute else DEFAULT_V_MAX_PRISMATIC)
-                         for j in robot.chain.joints], dtype=float)
-    v = np.broadcast_to(np.asarray(v_max, dtype=float), (n,)) if np.ndim(v_max) == 0 else np.asarray(v_max, float)
-    if v.shape != (n,) or not np.all(np.isfinite(v)) or not np.all(v > 0):
-        raise FollowError(f"v_max {v_max!r} must be a positive finite number or {n} of them (rad/s, m/s)")
-    return v.astype(float).copy()
-
-
-def window_ranges(in_window: np.ndarray, names: Sequence[str] = ()) -> list[dict]:
-    """Contiguous waypoint ranges [first, last] (inclusive) of each window index in ``in_window``."""
-    out = []
-    for w in sorted(set(int(x) for x in np.unique(in_window)) - {-1}):
-        idx = np.flatnonzero(in_window == w)
-        breaks = np.flatnonzero(np.diff(idx) > 1)
-        starts = np.r_[idx[0], idx[breaks + 1]]
-        ends = np.r_[idx[breaks], idx[-1]]
-        out.append({"window": w, "name": names[w] if w < len(names) else str(w),
-                    "ranges": [[int(a), int(b)] for a, b in zip(starts, ends)], "waypoints": int(len(idx))})
-    return out
-
-
-def tracking_errors(robot, Q: np.ndarray, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(position error (N,) m, rotation angle (N,) rad, tool-z-axis angle (N,) rad) of a joint path
-    against target poses; rows with non-finite q give NaN."""
-    Q = np.asarray(Q, dtype=float)
-    ok = np.all(np.isfinite(Q), axis=1)
-    pe = np.full(len(Q), np.nan)
-    oe = np.full(len(Q), np.nan)
-    ae = np.full(len(Q), np.nan)
-    if ok.any():
-        T = robot.fk(Q[ok])
-        P = poses[ok]
-        pe[ok] = np.linalg.norm(P[:, :3, 3] - T[:, :3, 3], axis=1)
-        oe[ok] = np.linalg.norm(rotation_error(P[:, :3, :3], T[:, :3, :3]), axis=1)
-        c = np.clip(np.einsum("ij,ij->i", P[:, :3, 2], T[:, :3, 2]), -1.0, 1.0)
-        s = np.linalg.norm(np.cross(T[:, :3, 2], P[:, :3, 2]), axis=1)
-        ae[ok] = np.arctan2(s, c)
-    return pe, oe, ae
-
-
-def _path_arrays(path, dt: float | None, mode: str) -> tuple[np.ndarray, np.ndarray]:
-    """(poses (N, 4, 4), times (N,)) from an array of poses (or positions in position mode), a
-    ``(poses, times)`` pair, or an object with ``poses`` and ``times`` attributes."""
-    times = None
-    if hasattr(path, "poses"):
-        poses = path.poses
-        times = getattr(path, "times", None)
-        if times is None:
-            times = getattr(path, "t", None)
-    elif isinstance(path, tuple) and len(path) == 2:
-        poses, times = path
-    else:
-        poses = path
-    P = np.asarray(poses, dtype=float)
-    if P.ndim == 2 and P.shape[1] == 3:
-        if mode != "position":
-            raise FollowError(f"a path of positions (N, 3) can only be followed in mode 'position', not {mode!r}")
-        T = np.tile(np.eye(4), (len(P), 1, 1))
-        T[:, :3, 3] = P
-        P = T
-    if P.ndim != 3 or P.shape[1:] != (4, 4) or len(P) < 2:
-        raise FollowError(f"path poses have shape {np.shape(poses)}; expected (N, 4, 4) with N ≥ 2 "
-                          "(or positions (N, 3) in position mode)")
-    if not np.all(np.isfinite(P)):
-        raise FollowError("path poses hold NaN or infinite values")
-    if times is None:
-        if dt is None or not (math.isfinite(dt) and dt > 0):
-            raise FollowError(f"dt = {dt!r}: a path without times needs a positive finite step dt (s)")
-        t = np.arange(len(P)) * float(dt)
-    else:
-        t = np.asarray(times, dtype=float)
-        if t.shape != (len(P),) or not np.all(np.isfinite(t)) or not np.all(np.diff(t) > 0):
-            raise FollowError(f"path times have shape {t.shape} for {len(P)} poses; they must be finite and "
-                              "strictly increasing (s)")
-    return P, t
-
-
-class _Barrier:
-    """Signed margin d(q) of one window (> 0 outside) with its gradient, and the buffer m."""
-
-    def __init__(self, w: Window, n: int, buffer: float):
-        self.window = w
-        self.empty = False
-        if w.is_interval:
-            self.joints = [w.joint]
-            self.ivs = np.array(w.intervals, dtype=float).reshape(-1, 2)
-            self.empty = len(self.ivs) == 0
-            self.m = buffer * w.width
-        else:
-            self.joints = [j - 1 for j in w.joints]
-            self.empty = w.epsilon is None or w.epsilon < 0
-            self.m = buffer * max(w.epsilon or 0.0, 0.0)
-            q = sp.symbols(f"q1:{n + 1}", real=True)
-            expr = sp.sympify(w.expr, locals={f"q{i + 1}": q[i] for i in range(n)})
-            self._g = sp.lambdify([q], expr, modules="math")
-            grads = [sp.diff(expr, q[j]) for j in self.joints]
-            self._dg = sp.lambdify([q], grads, modules="math")
-
-    def __call__(self, q: np.ndarray) -> tuple[float, np.ndarray]:
-        """(d, ∂d/∂q over ``self.joints``)."""
-        if self.empty:
-            return math.inf, np.zeros(len(self.joints))
-        if self.window.is_interval:
-            x = q[self.joints[0]]
-            lo, hi = self.ivs[:, 0], self.ivs[:, 1]
-            d_each = np.maximum(lo - x, x - hi)
-            i = int(np.argmin(d_each))
-            # the nearer edge of the interval decides the direction (outwards when inside)
-            sgn = -1.0 if (lo[i] - x) > (x - hi[i]) else 1.0
-            return float(d_each[i]), np.array([sgn])
-        ql = [float(v) for v in q]
-        g = float(self._g(ql))
-        dg = np.asarray(self._dg(ql), dtype=float)
-        s = 1.0 if g >= 0 else -1.0
-        return abs(g) - float(self.window.epsilon), s * dg
-
-
-def _check_start(robot, q0) -> np.ndarray:
-    q = np.asarray(q0, dtype=float)
-    if q.shape != (robot.n,) or not np.all(np.isfinite(q)):
-        raise ConfigurationError(f"q0 has shape {q.shape} or non-finite values; expected ({robot.n},) finite "
-                                 f"for {robot.name}")
-    robot.check_limits(q)
-    return q.copy()
 
 
 # ---- the follower ----------------------------------------------------------------------------------
@@ -579,84 +334,3 @@ def follow_path(robot, path, q0, windows: WindowSet | Sequence[Window] | None = 
                         sigma_min=np.asarray(robot.sigma_min(Q), dtype=float), v_max=vmax,
                         tolerance=(float(tolerance[0]), float(tolerance[1])), qp_status=dict(status),
                         window_names=[w.name for w in wlist])
-
-
-def _log_rot(Ra: np.ndarray, Rb: np.ndarray) -> np.ndarray:
-    """Rotation vector (base frame) of Ra·Rbᵀ — :func:`kin.transforms.rotation_error` for one pair,
-    without the batch machinery (it runs twice per step); angles near π go to the batch version."""
-    M = Ra @ Rb.T
-    c = 0.5 * (M[0, 0] + M[1, 1] + M[2, 2] - 1.0)
-    v = np.array([M[2, 1] - M[1, 2], M[0, 2] - M[2, 0], M[1, 0] - M[0, 1]])
-    s = 0.5 * math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
-    if c < -0.9:
-        return rotation_error(Ra, Rb)
-    if s < 1e-7:
-        return 0.5 * v            # angle ≈ sin(angle): first order is exact to 1e-21
-    return v * (math.atan2(s, min(max(c, -1.0), 1.0)) / (2.0 * s))
-
-
-def _any_perpendicular(z: np.ndarray) -> np.ndarray:
-    a = np.eye(3)[int(np.argmin(np.abs(z)))]
-    v = np.cross(z, a)
-    return v / np.linalg.norm(v)
-
-
-def _task_error_norms(r: np.ndarray, R: np.ndarray, mode: str) -> tuple[float, float]:
-    """(position, orientation) norms of a predicted error in the mode's task space."""
-    rp = float(np.linalg.norm(r[:3]))
-    if mode == "pose":
-        return rp, float(np.linalg.norm(r[3:]))
-    if mode == "axis":
-        return rp, float(np.linalg.norm((R.T @ r[3:])[:2]))
-    return rp, 0.0
-
-
-# ---- the naive method ------------------------------------------------------------------------------
-def resolved_rate(robot, path, q0, dt: float | None = None,
-                  jacobian: Callable[[np.ndarray], np.ndarray] | None = None) -> ResolvedRateResult:
-    """Open-loop resolved-rate control: q_{k+1} = q_k + J(q_k)⁻¹·ẋ_des,k·Δt, no feedback, no limits.
-
-    ẋ_des,k = [p*_{k+1} − p*_k; log(R*_{k+1}·R*_kᵀ)]/Δt (base frame).  J⁻¹·ẋ is computed with
-    ``np.linalg.solve``; where it raises ``LinAlgError`` (J exactly singular in floating point) the
-    pseudo-inverse ``np.linalg.pinv(J)·ẋ`` (minimum-norm least squares) is used and the step is
-    listed in ``pinv_steps``.  A Jacobian with n ≠ 6 columns always uses the pseudo-inverse.  The
-    condition number of J is recorded at every step.  ``jacobian(q) -> (6, n)`` replaces the robot's
-    geometric Jacobian (to reproduce a method with a different one).  Joint limits are not enforced:
-    this is the method as a homework would write it.
-    """
-    poses, t = _path_arrays(path, dt, "pose")
-    q = _check_start(robot, q0)
-    jac = jacobian or robot.jacobian
-    N, n = len(poses), robot.n
-    Q = np.full((N, n), np.nan)
-    Q[0] = q
-    cond = np.full(N - 1, np.nan)
-    pinv_steps: list[int] = []
-    diverged = None
-    for k in range(N - 1):
-        dx = np.empty(6)
-        dx[:3] = poses[k + 1, :3, 3] - poses[k, :3, 3]
-        dx[3:] = _log_rot(poses[k + 1, :3, :3], poses[k, :3, :3])
-        J = np.asarray(jac(q), dtype=float)
-        with np.errstate(all="ignore"):
-            # inf when J is exactly singular (σ_min = 0)
-            cond[k] = np.linalg.cond(J) if np.all(np.isfinite(J)) else np.nan
-        try:
-            if J.shape[1] != J.shape[0]:
-                raise np.linalg.LinAlgError("not square")
-            dq = np.linalg.solve(J, dx)
-        except np.linalg.LinAlgError:
-            dq = np.linalg.pinv(J) @ dx
-            pinv_steps.append(k)
-        q = q + dq
-        if not np.all(np.isfinite(q)):
-            diverged = k + 1
-            break
-        Q[k + 1] = q
-    pe, oe, _ = tracking_errors(robot, Q, poses)
-    vel = np.full_like(Q, np.nan)
-    vel[0] = 0.0
-    vel[1:] = np.diff(Q, axis=0) / np.diff(t)[:, None]
-    return ResolvedRateResult(t=t, q=Q, position_error=pe, orientation_error=oe, joint_velocity=vel,
-                              joint_speed=np.abs(vel), condition=cond, pinv_steps=pinv_steps, diverged_at=diverged,
-                              method="q += solve(J, ẋ·Δt); pinv where solve raises (J exactly singular)")

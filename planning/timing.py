@@ -34,19 +34,11 @@ despite the solver's tolerance; c differs from 1 by about that tolerance (1e-7).
 method: a long grid with many active constraints (a dense, curved path) takes tens of thousands of
 iterations — seconds, not milliseconds.
 
-Corners.  A piecewise-linear joint path has corners where q′ jumps; passing one at non-zero speed
-would need an infinite acceleration, so without blending the path must stop there.  By default every
-corner is cut by a quadratic Bézier blend: the curve leaves the first segment at distance r before
-the waypoint and joins the next segment at distance r after it, with the waypoint as control point
-(r = min(``blend``, half of either adjacent segment)).  Parameterised over a length 2r, the path is
-C¹ in s (q′ continuous, unit length on the lines) and q″ is piecewise constant, so the trajectory
-does not stop at corners; the blend passes the waypoint at joint-space distance ≤ r/2 (reported as
-``max_deviation``; a collinear waypoint is passed exactly).  With ``blend=0`` the path is followed
-exactly and the trajectory stops at every corner (b = 0 there).  Consecutive duplicate waypoints are
-dropped, and a dense path (the samples of a smooth curve, e.g. a path follower's output) is first
-thinned by Ramer–Douglas–Peucker with tolerance ``simplify`` (default 1e-4 rad): the tiny corners
-between consecutive samples are artefacts of the sampling, and thinning keeps the QP small and well
-conditioned.
+Corners.  The path is made C¹ by blending its corners with quadratic Bézier pieces, or stops at
+every corner with ``blend=0``; a dense path is first thinned.  See :mod:`planning.path_shaping`
+(:func:`blend_path`, :func:`simplify_path`, :class:`BlendedPath`, re-exported here).  The result is
+checked against the limits by :func:`check_limits` (:mod:`planning.timing_check`, re-exported here
+with :class:`LimitCheck` and :class:`TimingError`).
 
 SI units throughout: rad and rad/s, rad/s² for revolute joints, m, m/s, m/s² for prismatic ones.
 """
@@ -59,7 +51,8 @@ import numpy as np
 import osqp
 import scipy.sparse as sps
 
-from kin.errors import RmtError
+from .path_shaping import BlendedPath, blend_path, simplify_path
+from .timing_check import LimitCheck, TimingError, _limits, check_limits
 
 __all__ = ["time_parameterize", "check_limits", "blend_path", "simplify_path", "BlendedPath", "TimedTrajectory",
            "LimitCheck", "TimingError", "DEFAULT_INTERVALS", "MAX_INTERVALS"]
@@ -73,146 +66,6 @@ MAX_INTERVALS = 5000
 # result exactly feasible instead
 _SETTINGS = dict(verbose=False, eps_abs=1e-7, eps_rel=1e-7, eps_prim_inf=1e-9, eps_dual_inf=1e-9,
                  max_iter=200000, polishing=False, rho=1.0, scaling=10, adaptive_rho=True)
-
-
-class TimingError(RmtError, ValueError):
-    """A time-parameterisation request is invalid (bad path, limits or grid) or the QP failed."""
-
-
-# ---- the geometric path ----------------------------------------------------------------------------
-@dataclass
-class BlendedPath:
-    """A joint path made of quadratic Bézier pieces (straight pieces are Béziers with their midpoint
-    as control point), parameterised by s ∈ [0, length].
-
-    ``ctrl`` (m, 3, n): control points P0, P1, P2 of each piece; ``s0`` (m,), ``ell`` (m,): start and
-    parameter length of each piece (q(s) = B((s − s0)/ℓ)); ``stops``: s values where q′ jumps (unblended
-    corners, the trajectory stops there); ``max_deviation``: an upper bound of the joint-space distance
-    between an input waypoint and the path; ``waypoints``: the waypoints kept (after thinning).
-    """
-
-    ctrl: np.ndarray
-    s0: np.ndarray
-    ell: np.ndarray
-    stops: np.ndarray
-    max_deviation: float
-    waypoints: np.ndarray
-
-    @property
-    def length(self) -> float:
-        return float(self.s0[-1] + self.ell[-1]) if len(self.ell) else 0.0
-
-    @property
-    def n(self) -> int:
-        return self.waypoints.shape[1]
-
-    def piece_of(self, s: np.ndarray, side: str = "right") -> np.ndarray:
-        """Index of the piece holding each s (at a boundary: the piece to the right, or left)."""
-        s = np.asarray(s, dtype=float)
-        if side == "right":
-            idx = np.searchsorted(self.s0, s, side="right") - 1
-        else:
-            idx = np.searchsorted(self.s0 + self.ell, s, side="left")
-        return np.clip(idx, 0, len(self.ell) - 1)
-
-    def evaluate(self, s, piece: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """q (K, n), q′ (K, n), q″ (K, n) at parameters s (K,), on the given pieces (default: the piece
-        to the right of each s)."""
-        s = np.atleast_1d(np.asarray(s, dtype=float))
-        p = self.piece_of(s) if piece is None else np.asarray(piece)
-        ell = self.ell[p][:, None]
-        u = np.clip((s - self.s0[p]) / self.ell[p], 0.0, 1.0)[:, None]
-        P0, P1, P2 = self.ctrl[p, 0], self.ctrl[p, 1], self.ctrl[p, 2]
-        q = (1 - u) ** 2 * P0 + 2 * u * (1 - u) * P1 + u ** 2 * P2
-        d1 = 2 * ((1 - u) * (P1 - P0) + u * (P2 - P1)) / ell
-        d2 = np.broadcast_to(2 * (P0 - 2 * P1 + P2) / ell ** 2, q.shape).copy()
-        return q, d1, d2
-
-
-def simplify_path(path, tolerance: float) -> np.ndarray:
-    """Ramer–Douglas–Peucker in joint space: the fewest waypoints (a subset, ends kept) such that every
-    dropped waypoint lies within ``tolerance`` (rad or m, Euclidean) of the simplified polyline."""
-    W = np.asarray(path, dtype=float)
-    if len(W) <= 2 or tolerance <= 0:
-        return W.copy()
-    keep = np.zeros(len(W), bool)
-    keep[0] = keep[-1] = True
-    stack = [(0, len(W) - 1)]
-    while stack:
-        i, j = stack.pop()
-        if j <= i + 1:
-            continue
-        a, b = W[i], W[j]
-        d = b - a
-        L2 = float(d @ d)
-        X = W[i + 1:j] - a
-        if L2 > 0:
-            u = np.clip(X @ d / L2, 0.0, 1.0)
-            dist = np.linalg.norm(X - u[:, None] * d, axis=1)
-        else:
-            dist = np.linalg.norm(X, axis=1)
-        k = int(np.argmax(dist))
-        if dist[k] > tolerance:
-            m = i + 1 + k
-            keep[m] = True
-            stack += [(i, m), (m, j)]
-    return W[keep]
-
-
-def blend_path(path, blend: float = 0.05, simplify: float = 1e-4) -> BlendedPath:
-    """Pieces of a piecewise-linear joint path (M, n) with every corner cut by a quadratic Bézier of
-    half-length r = min(``blend``, half of each adjacent segment); ``blend=0`` keeps the corners (the
-    trajectory will stop at them).  The waypoints are first thinned by :func:`simplify_path` with
-    tolerance ``simplify`` (0: keep them all) — on a dense path, the corners between consecutive
-    samples of a smooth curve are artefacts of the sampling.  See the module docstring."""
-    W = np.asarray(path, dtype=float)
-    if W.ndim != 2 or len(W) < 1 or W.shape[1] < 1:
-        raise TimingError(f"path has shape {W.shape}; expected (M, n) joint waypoints with M ≥ 1")
-    if not np.all(np.isfinite(W)):
-        raise TimingError("path holds NaN or infinite values")
-    if not (math.isfinite(blend) and blend >= 0):
-        raise TimingError(f"blend = {blend!r} must be a finite number ≥ 0 (rad or m, joint-space distance)")
-    if not (math.isfinite(simplify) and simplify >= 0):
-        raise TimingError(f"simplify = {simplify!r} must be a finite number ≥ 0 (rad or m, joint-space distance)")
-    keep = np.r_[True, np.linalg.norm(np.diff(W, axis=0), axis=1) > 1e-12]
-    W = simplify_path(W[keep], simplify)
-    n = W.shape[1]
-    if len(W) == 1:
-        return BlendedPath(np.zeros((0, 3, n)), np.zeros(0), np.zeros(0), np.zeros(0), 0.0, W)
-    D = np.diff(W, axis=0)
-    L = np.linalg.norm(D, axis=1)
-    U = D / L[:, None]
-    M = len(W)
-    total = float(L.sum())
-    r = np.zeros(M)            # cut at each interior waypoint
-    for k in range(1, M - 1):
-        r[k] = min(blend, 0.5 * L[k - 1], 0.5 * L[k])
-    pieces, s0s, ells, stops = [], [], [], []
-    s = 0.0
-    dev = 0.0
-    for k in range(M - 1):
-        a = W[k] + r[k] * U[k]
-        b = W[k + 1] - r[k + 1] * U[k]
-        seg = float(np.linalg.norm(b - a))
-        if seg > 1e-9 * total:
-            pieces.append((a, 0.5 * (a + b), b))
-            s0s.append(s)
-            ells.append(seg)
-            s += seg
-        if k + 1 < M - 1:
-            if r[k + 1] > 0:
-                P0, P1, P2 = W[k + 1] - r[k + 1] * U[k], W[k + 1], W[k + 1] + r[k + 1] * U[k + 1]
-                pieces.append((P0, P1, P2))
-                s0s.append(s)
-                ells.append(2 * r[k + 1])
-                s += 2 * r[k + 1]
-                dev = max(dev, float(np.linalg.norm(0.25 * (P0 - 2 * P1 + P2))))   # |B(½) − P1|
-            elif np.linalg.norm(U[k + 1] - U[k]) > 1e-9:
-                stops.append(s)
-    # every original waypoint lies within ``simplify`` of the simplified polyline, and the blends stay
-    # within ``dev`` of it near the corners: their sum bounds the deviation
-    return BlendedPath(np.array(pieces), np.array(s0s), np.array(ells), np.array(stops),
-                       dev + (simplify if len(W) < len(keep) else 0.0), W)
 
 
 # ---- the timed trajectory ----------------------------------------------------------------------------
@@ -260,28 +113,6 @@ class TimedTrajectory:
         piece = self.path.piece_of(0.5 * (self.s[i] + self.s[i + 1]))   # the interval's own piece
         q, d1, d2 = self.path.evaluate(s, piece)
         return q, d1 * sd[:, None], d1 * a[:, None] + d2 * (sd ** 2)[:, None]
-
-
-@dataclass(frozen=True)
-class LimitCheck:
-    """Result of :func:`check_limits`: ratios to the limits (≤ 1 holds), at the samples (analytic
-    q̇, q̈) and from finite differences of the sampled q over t."""
-
-    ok: bool
-    velocity_ratio: float
-    acceleration_ratio: float
-    fd_velocity_ratio: float
-    fd_acceleration_ratio: float
-    tol: float
-
-
-def _limits(x, n: int, name: str) -> np.ndarray:
-    arr = np.asarray(x, dtype=float)
-    v = np.full(n, float(arr)) if arr.ndim == 0 else arr
-    if v.shape != (n,) or not np.all(np.isfinite(v)) or not np.all(v > 0):
-        raise TimingError(f"{name} {x!r} must be a positive finite number or {n} of them "
-                          f"({'rad/s or m/s' if name == 'v_max' else 'rad/s² or m/s²'})")
-    return v.astype(float)
 
 
 def _grid(bp: BlendedPath, K: int) -> np.ndarray:
@@ -485,31 +316,3 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
     return TimedTrajectory(t=t, q=q, qd=qd, qdd=qdd, s=ks, sd=sd, sdd=sdd, duration=float(t[-1]),
                            max_velocity_ratio=vr, max_acceleration_ratio=ar, path=bp, v_max=vmax, a_max=amax,
                            qp_status=status, scale=c, grid=s)
-
-
-def check_limits(traj: TimedTrajectory, v_max, a_max, tol: float = 1e-3) -> LimitCheck:
-    """Check a trajectory against speed and acceleration limits, within a relative ``tol``.
-
-    Checked: the analytic q̇, q̈ at the samples, and finite differences of the sampled q over t —
-    (q_{i+1} − q_i)/Δt_i for the speed, the second divided difference
-    2·(v_i − v_{i−1})/(Δt_{i−1} + Δt_i) for the acceleration (it is a positively weighted average of
-    q̈ over the two intervals, so it stays within the limit when q̈ does).  ``ok`` when every ratio is
-    ≤ 1 + tol.
-    """
-    n = traj.q.shape[1]
-    vmax = _limits(v_max, n, "v_max")
-    amax = _limits(a_max, n, "a_max")
-    if not (math.isfinite(tol) and tol >= 0):
-        raise TimingError(f"tol = {tol!r} must be a finite number ≥ 0 (relative)")
-    vr = float(np.max(np.abs(traj.qd) / vmax)) if len(traj.t) else 0.0
-    ar = float(np.max(np.abs(traj.qdd) / amax)) if len(traj.t) else 0.0
-    fvr = far = 0.0
-    if len(traj.t) > 1:
-        dt = np.diff(traj.t)
-        v = np.diff(traj.q, axis=0) / dt[:, None]
-        fvr = float(np.max(np.abs(v) / vmax))
-        if len(traj.t) > 2:
-            acc = 2 * np.diff(v, axis=0) / (dt[:-1] + dt[1:])[:, None]
-            far = float(np.max(np.abs(acc) / amax))
-    ok = max(vr, ar, fvr, far) <= 1.0 + tol
-    return LimitCheck(bool(ok), vr, ar, fvr, far, float(tol))

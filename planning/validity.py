@@ -2,8 +2,9 @@
 
 :class:`JointSpaceChecker` answers OMPL's two questions.  ``state_valid`` is on the planner's hot
 path and works on plain Python floats (interval windows are interval tests, other windows a
-scalar formula; σ_min only when a floor is set).  ``motion_valid`` checks a whole straight motion
-as one numpy batch at a joint step finer than the narrowest window, so no window can be jumped.
+scalar formula; σ_min only when a floor is set).  ``motion_valid`` checks a straight motion:
+its end states, the interval windows and limits exactly, and the other constraints as one numpy
+batch at a joint step finer than the narrowest window, so no window can be jumped.
 """
 from __future__ import annotations
 
@@ -49,6 +50,7 @@ class JointSpaceChecker:
         self.revolute = self.chain.revolute_mask
         self._intervals: list[tuple[int, list[tuple[float, float]]]] = []
         self._predicates = []
+        self._predicates_np = []        # the same factors, numpy: g(Qᵀ) for Qᵀ of shape (n, K)
         widths_rev, widths_len = [MAX_MOTION_STEP_ANGLE * 5], [MAX_MOTION_STEP_LENGTH * 5]
         if windows is not None:
             if windows.n != self.n:
@@ -62,6 +64,7 @@ class JointSpaceChecker:
                 else:
                     expr = sp.sympify(w.expr, locals={f"q{i + 1}": q[i] for i in range(self.n)})
                     self._predicates.append((sp.lambdify([q], expr, modules="math"), float(w.epsilon)))
+                    self._predicates_np.append((sp.lambdify([q], expr, modules="numpy"), float(w.epsilon)))
         # the motion step: a fifth of the narrowest window, at most 1° / 1 mm
         self.step_angle = min(MAX_MOTION_STEP_ANGLE, min(widths_rev) / 5)
         self.step_length = min(MAX_MOTION_STEP_LENGTH, min(widths_len) / 5)
@@ -150,7 +153,38 @@ class JointSpaceChecker:
         return ok
 
     def motion_valid(self, a, b) -> bool:
-        return bool(self.batch_valid(self.motion_states(a, b)).all())
+        """Whether the straight motion a → b is valid.
+
+        The end states are checked as single states (cheap; most rejected motions end inside a
+        window).  Joint limits then hold along the whole motion (the limit box is convex) and an
+        interval window [lo, hi] on joint j is entered exactly when the range of q_j along the motion
+        overlaps it (q_j is linear in the motion parameter), so neither needs sampling.  Only the
+        multi-joint windows, the σ_min floor and the keep-out boxes are checked at the states of
+        :meth:`motion_states` (a step finer than the narrowest window), as one numpy batch.
+        """
+        a = [float(x) for x in a]
+        b = [float(x) for x in b]
+        if not (self.state_valid(b) and self.state_valid(a)):
+            return False
+        for j, ivs in self._intervals:
+            u, v = (a[j], b[j]) if a[j] <= b[j] else (b[j], a[j])
+            for lo, hi in ivs:
+                if lo <= v and u <= hi:
+                    return False
+        if not (self._predicates_np or self.sigma_floor is not None or self.boxes):
+            return True
+        Q = self.motion_states(a, b)[1:-1]          # the end states are already checked
+        if len(Q) == 0:
+            return True
+        QT = Q.T
+        for g, eps in self._predicates_np:
+            if (np.abs(g(QT)) <= eps).any():
+                return False
+        if self.sigma_floor is not None and (self.robot.sigma_min(Q) < self.sigma_floor).any():
+            return False
+        if self.boxes and self._in_box(Q).any():
+            return False
+        return True
 
     # ---- keep-out boxes -------------------------------------------------------------------------
     def _in_box(self, Q: np.ndarray) -> np.ndarray:

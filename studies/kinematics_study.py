@@ -18,7 +18,6 @@ import os
 import tomllib
 from pathlib import Path
 
-
 import kin
 from kin.chain import DH_FIELDS, LENGTH_FIELDS
 from kin.compiled import numpy_measures
