@@ -7,7 +7,7 @@ narrowest window (so no window can be jumped), a problem definition with an opti
 (path length, or path length plus a singularity cost ∫ 1/σ_min), and a planner chosen by name.
 
 Every returned path is re-checked by :func:`planning.validate.check_path`, independently of the
-planner; a path that fails is repaired (the unsimplified path, then re-planning with a finer
+planner (and, with keep-out boxes, its densely interpolated tool points against the boxes); a path that fails is repaired (the unsimplified path, then re-planning with a finer
 motion step) or reported as a failure — :func:`plan` never returns an invalid path as a success.
 """
 from __future__ import annotations
@@ -23,7 +23,7 @@ from kin.errors import ConfigurationError
 
 from .errors import PlanningError
 from .ompl_setup import ob, og, quiet_rng_seed
-from .validate import DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, PathCheck, check_path
+from .validate import DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, PathCheck, check_path, densify
 from .validity import JointSpaceChecker, KeepOutBox
 
 PLANNERS = {
@@ -166,16 +166,30 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
             break
         for cand in ([path, raw] if simplify else [raw]):
             chk = check_path(robot, cand, windows, sigma_min, check_step_angle, check_step_length)
-            if chk.valid:
+            box_row = _box_violation(robot, checker, cand, check_step_angle, check_step_length) \
+                if chk.valid and checker.boxes else None
+            if chk.valid and box_row is None:
                 attempts.append(f"{status}; dense check passed")
                 return PlanResult(True, cand, cls.__name__, time.perf_counter() - t0, path_length(cand),
                                   chk.min_sigma, chk, status, straight_ok, goal_q, attempts)
-            attempts.append(f"{status}; dense check failed: {chk.first_violation.kind} at row "
-                            f"{chk.first_violation.index}")
+            if not chk.valid:
+                attempts.append(f"{status}; dense check failed: {chk.first_violation.kind} at row "
+                                f"{chk.first_violation.index}")
+            else:
+                attempts.append(f"{status}; dense check failed: keep-out box at row {box_row}")
         step /= 4.0          # repair: a finer motion validator, then plan again
         checker.motion_step = step
     return PlanResult(False, np.zeros((0, chain.n)), cls.__name__, time.perf_counter() - t0, math.nan, math.nan,
                       None, attempts[-1] if attempts else "failed", straight_ok, goal_q, attempts)
+
+
+def _box_violation(robot, checker: JointSpaceChecker, path: np.ndarray, step_angle: float,
+                   step_length: float) -> int | None:
+    """Row of the first segment whose densely interpolated states put a checked point in a keep-out
+    box (None when none does): :func:`check_path` knows nothing of boxes."""
+    Q, seg, _ = densify(path, robot.chain.revolute_mask, step_angle, step_length)
+    hit = checker._in_box(Q)
+    return int(seg[int(np.argmax(hit))]) if hit.any() else None
 
 
 def _solve(robot, cls, checker: JointSpaceChecker, start_q, goal_q, time_limit, seed, objective, simplify):
