@@ -7,8 +7,6 @@ exits with code 2 and one line on stderr; ``rmt ik`` exits 1 when it finds no so
 from __future__ import annotations
 
 import argparse
-import json
-import math
 import re
 import sys
 from pathlib import Path
@@ -20,6 +18,7 @@ import kin
 from kin.transforms import make_transform, rpy_to_matrix
 
 from . import kinematics_study as ks
+from .cli_common import dump, joint_values, numbers
 from .commands_follow import add_commands as add_follow_commands
 from .commands_plan import add_commands as add_plan_commands
 from .commands_singular import add_commands
@@ -49,26 +48,8 @@ def _robot(arg: str) -> kin.Robot:
     return kin.load_robot(arg)
 
 
-def _numbers(values: Sequence[str], what: str) -> list[float]:
-    out = []
-    for v in values:
-        try:
-            x = float(v)
-        except ValueError:
-            raise UsageError(f"{what}: {v!r} is not a number") from None
-        if not math.isfinite(x):
-            raise UsageError(f"{what}: {v!r} is not a finite number")
-        out.append(x)
-    return out
 
 
-def _joint_values(robot: kin.Robot, values: Sequence[str], what: str = "joint values") -> np.ndarray:
-    q = _numbers(values, what)
-    n = robot.n
-    if len(q) != n:
-        units = ", ".join(joint_units(robot.chain))
-        raise UsageError(f"{what}: got {len(q)} values; {robot.name} has {n} joints ({units})")
-    return robot.chain.to_si(q)
 
 
 def _warn_limits(robot: kin.Robot, q: np.ndarray) -> None:
@@ -85,8 +66,6 @@ def _fmt_matrix(M: np.ndarray, width: int = 11, prec: int = 6) -> str:
     return "\n".join("  " + " ".join(f"{x + 0.0:{width}.{prec}g}" for x in row) for row in np.asarray(M))
 
 
-def _dump(obj) -> str:
-    return json.dumps(obj, allow_nan=False)
 
 
 # ---- commands ----------------------------------------------------------------------------------
@@ -98,7 +77,7 @@ def cmd_robots(args) -> int:
                      "types": "".join("R" if j.is_revolute else "P" for j in c.joints),
                      "convention": c.convention, "units": unit_names(c), "source": c.source})
     if args.json:
-        print(_dump({"robots": rows}))
+        print(dump({"robots": rows}))
         return EXIT_OK
     w = max(len(r["name"]) for r in rows)
     for r in rows:
@@ -120,7 +99,7 @@ def cmd_show(args) -> int:
                            for k, p in c.parameters.items()},
             "task_rows": [["x", "y", "z", "rx", "ry", "rz"][r] for r in robot.task_rows]}
     if args.json:
-        print(_dump(info))
+        print(dump(info))
         return EXIT_OK
     print(f"{c.name}: {c.title}")
     if c.source:
@@ -141,13 +120,13 @@ def cmd_show(args) -> int:
 
 def cmd_fk(args) -> int:
     robot = _robot(args.robot)
-    q = _joint_values(robot, args.q)
+    q = joint_values(robot, args.q)
     _warn_limits(robot, q)
     T = pose_to_file(robot.chain, robot.fk(q))
     out = {"T": T.tolist(), "position": T[:3, 3].tolist(), "units": unit_names(robot.chain),
            "within_limits": bool(robot.within_limits(q))}
     if args.json:
-        print(_dump(out))
+        print(dump(out))
     else:
         print(f"T ({robot.chain.length_unit}):\n{_fmt_matrix(T)}")
         print("position: " + " ".join(f"{x:.6g}" for x in T[:3, 3]))
@@ -156,14 +135,14 @@ def cmd_fk(args) -> int:
 
 def cmd_jacobian(args) -> int:
     robot = _robot(args.robot)
-    q = _joint_values(robot, args.q)
+    q = joint_values(robot, args.q)
     _warn_limits(robot, q)
     r = ks.evaluate_configuration(robot, robot.chain.from_si(q))
     out = {"J": r["J"], "manipulability": r["manipulability"], "sigma_min": r["sigma_min"],
            "condition": r["condition"], "det": r["det"], "units": unit_names(robot.chain),
            "task_rows": [["x", "y", "z", "rx", "ry", "rz"][i] for i in robot.task_rows]}
     if args.json:
-        print(_dump(out))
+        print(dump(out))
         return EXIT_OK
     c = robot.chain
     print(f"J (rows vx vy vz [{c.length_unit}/s] wx wy wz [{c.angle_unit}/s] per joint rate):")
@@ -177,21 +156,21 @@ def cmd_jacobian(args) -> int:
 def cmd_ik(args) -> int:
     robot = _robot(args.robot)
     c = robot.chain
-    xyz = np.array(_numbers(args.xyz, "--xyz")) * c.length_scale
+    xyz = np.array(numbers(args.xyz, "--xyz")) * c.length_scale
     if args.rpy is not None:
-        rpy = np.array(_numbers(args.rpy, "--rpy")) * c.angle_scale
+        rpy = np.array(numbers(args.rpy, "--rpy")) * c.angle_scale
         target = make_transform(rpy_to_matrix(rpy), xyz)
         mode = "pose"
     else:
         target, mode = xyz, "position"
-    q0 = None if args.q0 is None else _joint_values(robot, args.q0, "--q0")
+    q0 = None if args.q0 is None else joint_values(robot, args.q0, "--q0")
     res = robot.ik(target, seed=args.seed, q0=q0, mode=mode)
     out = {"success": bool(res.success), "q": c.from_si(res.q).tolist(),
            "position_error": res.position_error / c.length_scale,
            "orientation_error": res.orientation_error / c.angle_scale,
            "mode": mode, "units": unit_names(c)}
     if args.json:
-        print(_dump(out))
+        print(dump(out))
     else:
         status = "solution" if res.success else "NO solution (closest configuration found)"
         print(f"{status}: q = " + " ".join(f"{x:.6g}" for x in out["q"]))
@@ -207,7 +186,7 @@ def cmd_study(args) -> int:
     progress = None if quiet or not sys.stderr.isatty() else (lambda t: print(f"… {t}", file=sys.stderr))
     results = run_study(study, out_dir, progress)
     if args.json:
-        print(_dump(results))
+        print(dump(results))
     elif not args.quiet:
         print(study_report(results, out_dir / "results.json"))
     return EXIT_OK

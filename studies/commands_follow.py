@@ -2,30 +2,13 @@
 resolved-rate method against the OSQP path follower (:mod:`studies.drawing_study`)."""
 from __future__ import annotations
 
-import json
 import math
-
-import numpy as np
 
 import kin
 from planning.follow import MODES
 
+from .cli_common import dump
 from .drawing_study import pen_robot, run_drawing_study
-
-
-def _jsonable(obj):
-    if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _jsonable(obj.tolist())
-    if isinstance(obj, (np.floating, float)):
-        x = float(obj)
-        return x if math.isfinite(x) else None
-    if isinstance(obj, (np.integer, np.bool_)):
-        return obj.item()
-    return obj
 
 
 def _ranges(d: dict) -> str:
@@ -46,7 +29,7 @@ def cmd_drawing(args, load_robot) -> int:
         plot_drawing(res, args.plot)
     res.pop("series", None)
     if args.json:
-        print(json.dumps(_jsonable(res), allow_nan=False))
+        print(dump(res))
         return 0
     p, st, tol = res["path"], res["start"], res["tolerance"]
     print(f"Drawing task (ROBOTS.md §6) on {res['robot']} (pen d6 = {res['pen_d6_m']:g} m): "

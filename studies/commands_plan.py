@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 import os
 from pathlib import Path
@@ -12,11 +11,10 @@ from pathlib import Path
 import numpy as np
 
 import kin
-from kin.singularity import analyse_singularities
 from planning.ompl_planner import plan
 from planning.validate import DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, check_path
-from planning.windows import build_windows
 
+from .cli_common import dump, joint_values, windows_from_args
 from .units import joint_units
 
 
@@ -24,43 +22,12 @@ class PathFileError(kin.RmtError):
     """A joint-path CSV file is missing or invalid."""
 
 
-def _dump(obj) -> str:
-    return json.dumps(obj, allow_nan=False)
-
 
 def _num(x):
     return None if x is None or not math.isfinite(x) else float(x)
 
 
-def _windows(robot, args):
-    """Windows from --margin (file units) or --sigma-min (SI), or None."""
-    if args.margin is None and args.sigma_min is None:
-        return None
-    analysis = analyse_singularities(robot, seed=args.seed)
-    c = robot.chain
-    if args.margin is not None:
-        if not (math.isfinite(args.margin) and args.margin >= 0):
-            raise kin.RmtError(f"--margin {args.margin} must be a finite number ≥ 0 (file units)")
-        margins = [args.margin * (c.angle_scale if any(c.joints[j - 1].is_revolute for j in f.joints)
-                                  else c.length_scale) for f in analysis.factors]
-        return build_windows(robot, margin=margins, analysis=analysis)
-    return build_windows(robot, sigma_min=args.sigma_min, analysis=analysis, seed=args.seed)
 
-
-def _q(robot, values, what):
-    out = []
-    for v in values:
-        try:
-            x = float(v)
-        except ValueError:
-            raise kin.RmtError(f"{what}: {v!r} is not a number") from None
-        if not math.isfinite(x):
-            raise kin.RmtError(f"{what}: {v!r} is not a finite number")
-        out.append(x)
-    if len(out) != robot.n:
-        raise kin.RmtError(f"{what}: got {len(out)} values; {robot.name} has {robot.n} joints "
-                           f"({', '.join(joint_units(robot.chain))})")
-    return robot.chain.to_si(out)
 
 
 def write_path_csv(robot, path_si: np.ndarray, out: str | Path) -> Path:
@@ -108,9 +75,9 @@ def read_path_csv(robot, path: str | Path) -> np.ndarray:
 
 def cmd_plan(args, load_robot) -> int:
     robot = load_robot(args.robot)
-    start = _q(robot, args.start, "--start")
-    goal = _q(robot, args.goal, "--goal")
-    ws = _windows(robot, args)
+    start = joint_values(robot, args.start, "--start")
+    goal = joint_values(robot, args.goal, "--goal")
+    ws = windows_from_args(robot, args.margin, args.sigma_min, args.seed)
     res = plan(robot, start, goal, ws, planner=args.planner, time_limit=args.time_limit, seed=args.seed,
                objective=args.objective)
     c = robot.chain
@@ -123,7 +90,7 @@ def cmd_plan(args, load_robot) -> int:
            "straight_line_valid": res.straight_line_valid, "status": res.status,
            "units": {"path": "robot file units", "length": "joint-space length, SI (rad/m)", "min_sigma": "SI"}}
     if args.json:
-        print(_dump(out))
+        print(dump(out))
     else:
         if res.success:
             print(f"path found by {res.planner} in {res.time_s:.3f} s: {len(res.path)} waypoints, joint-space "
@@ -142,7 +109,7 @@ def cmd_plan(args, load_robot) -> int:
 def cmd_check_path(args, load_robot) -> int:
     robot = load_robot(args.robot)
     P = read_path_csv(robot, args.path)
-    ws = _windows(robot, args)
+    ws = windows_from_args(robot, args.margin, args.sigma_min, args.seed)
     c = robot.chain
     step_angle = DEFAULT_STEP_ANGLE if args.step is None else args.step * c.angle_scale
     step_length = DEFAULT_STEP_LENGTH if args.step is None else args.step * c.length_scale
@@ -153,7 +120,7 @@ def cmd_check_path(args, load_robot) -> int:
            "min_sigma": _num(chk.min_sigma), "min_sigma_index": chk.min_sigma_index,
            "checked_states": chk.checked_states, "rows": int(len(P))}
     if args.json:
-        print(_dump(out))
+        print(dump(out))
     elif chk.valid:
         print(f"valid: {len(P)} rows, {chk.checked_states} states checked; min σ_min {chk.min_sigma:.3g} "
               f"(row {chk.min_sigma_index})")

@@ -2,20 +2,12 @@
 the (functional) workspace of a robot."""
 from __future__ import annotations
 
-import json
-import math
-
-import numpy as np
-
 import kin
 from kin.singularity import analyse_singularities
 from planning.windows import WindowSet, build_windows
 
+from .cli_common import dump, factor_margins
 from .units import unit_names
-
-
-def _dump(obj) -> str:
-    return json.dumps(obj, allow_nan=False)
 
 
 def _value_to_file(chain: kin.Chain, joint: int, v: float) -> float:
@@ -48,7 +40,7 @@ def cmd_singularities(args, load_robot) -> int:
     analysis = analyse_singularities(robot, seed=args.seed)
     out = singularities_json(robot, analysis)
     if args.json:
-        print(_dump(out))
+        print(dump(out))
         return 0
     c = robot.chain
     print(f"{c.name}: {len(out['factors'])} singular factor{'s' if len(out['factors']) != 1 else ''} "
@@ -92,12 +84,7 @@ def cmd_windows(args, load_robot) -> int:
     analysis = analyse_singularities(robot, seed=args.seed)
     reports = None
     if args.margin is not None:
-        if not (math.isfinite(args.margin) and args.margin >= 0):
-            raise kin.RmtError(f"--margin {args.margin} must be a finite number ≥ 0 (file units)")
-        # one margin in file units: an angle for factors with a revolute joint, a length otherwise
-        margins = [args.margin * (c.angle_scale if any(c.joints[j - 1].is_revolute for j in f.joints)
-                                  else c.length_scale) for f in analysis.factors]
-        ws = build_windows(robot, margin=margins, analysis=analysis, seed=args.seed)
+        ws = build_windows(robot, margin=factor_margins(c, analysis, args.margin), analysis=analysis, seed=args.seed)
     elif args.sigma_min is not None:
         ws = build_windows(robot, sigma_min=args.sigma_min, analysis=analysis, seed=args.seed)
     else:
@@ -110,7 +97,7 @@ def cmd_windows(args, load_robot) -> int:
     if reports is not None:
         out["learned"] = reports
     if args.json:
-        print(_dump(_jsonable(out)))
+        print(dump(out))
         return 0
     print(_windows_text(robot, ws))
     for r in reports or []:
@@ -124,20 +111,6 @@ def cmd_windows(args, load_robot) -> int:
     return 0
 
 
-def _jsonable(obj):
-    if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _jsonable(obj.tolist())
-    if isinstance(obj, (np.floating, float)):
-        x = float(obj)
-        return x if math.isfinite(x) else None
-    if isinstance(obj, np.integer):
-        return int(obj)
-    return obj
-
 
 def cmd_workspace(args, load_robot) -> int:
     from design.workspace import compute_workspace
@@ -149,7 +122,7 @@ def cmd_workspace(args, load_robot) -> int:
         plot_workspace(ws, args.plot, title=f"{robot.chain.title or robot.name}: functional workspace")
     d = ws.to_dict()
     if args.json:
-        print(_dump(_jsonable(d)))
+        print(dump(d))
         return 0
     c = robot.chain
     s = c.length_scale

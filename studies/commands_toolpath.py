@@ -11,11 +11,11 @@ from pathlib import Path
 import numpy as np
 
 import kin
-from kin.singularity import analyse_singularities
 from planning.toolpath import ToolPathError, load_toolpath
 from planning.toolpath_check import KINDS, ToolPathReport, validate_toolpath
-from planning.windows import WindowSet, build_windows
+from planning.windows import WindowSet
 
+from .cli_common import jsonable, numbers, windows_from_args
 from .units import joint_units, unit_names
 
 #: bundled example tool paths: ``rmt validate-toolpath ROBOT NAME`` finds ``NAME.toml`` or ``NAME.csv`` here
@@ -41,18 +41,6 @@ def toolpath_file(arg: str) -> Path:
                         "(or give a path to a .csv or .toml file)", arg)
 
 
-def _numbers(values, what: str) -> list[float]:
-    out = []
-    for v in values:
-        try:
-            x = float(v)
-        except ValueError:
-            raise kin.RmtError(f"{what}: {v!r} is not a number") from None
-        if not math.isfinite(x):
-            raise kin.RmtError(f"{what}: {v!r} is not a finite number")
-        out.append(x)
-    return out
-
 
 def _positive(x: float | None, what: str) -> float | None:
     if x is not None and not (math.isfinite(x) and x > 0):
@@ -62,31 +50,22 @@ def _positive(x: float | None, what: str) -> float | None:
 
 def _windows(robot: kin.Robot, args) -> WindowSet | None:
     """Windows from --margin (file units), --sigma-min (SI threshold) or --windows FILE.json; or None."""
-    c = robot.chain
     if args.windows:
         ws = WindowSet.load(args.windows)
         if ws.n != robot.n:
             raise kin.RmtError(f"{args.windows}: windows for a {ws.n}-joint robot ({ws.robot}); {robot.name} has "
                                f"{robot.n} joints")
         return ws
-    if args.margin is None and args.sigma_min is None:
-        return None
-    analysis = analyse_singularities(robot, seed=args.seed)
-    if args.margin is not None:
-        if not (math.isfinite(args.margin) and args.margin >= 0):
-            raise kin.RmtError(f"--margin {args.margin} must be a finite number ≥ 0 (file units)")
-        margins = [args.margin * (c.angle_scale if any(c.joints[j - 1].is_revolute for j in f.joints)
-                                  else c.length_scale) for f in analysis.factors]
-        return build_windows(robot, margin=margins, analysis=analysis)
-    _positive(args.sigma_min, "--sigma-min")
-    return build_windows(robot, sigma_min=args.sigma_min, analysis=analysis, seed=args.seed)
+    if args.sigma_min is not None:
+        _positive(args.sigma_min, "--sigma-min")
+    return windows_from_args(robot, args.margin, args.sigma_min, args.seed)
 
 
 def _per_joint(robot: kin.Robot, values, what: str) -> np.ndarray | None:
     """One value for every joint, or one per joint, in file units → SI (n,)."""
     if values is None:
         return None
-    v = _numbers(values, what)
+    v = numbers(values, what)
     if len(v) not in (1, robot.n):
         raise kin.RmtError(f"{what}: give one value or {robot.n} (one per joint); got {len(v)}")
     arr = np.broadcast_to(np.array(v), (robot.n,))
@@ -141,23 +120,8 @@ def report_json(report: ToolPathReport, robot: kin.Robot, waypoints: bool = Fals
             "manipulability": report.manipulability.tolist(), "window": report.window.tolist(),
             "joint_speed": qd.tolist(), "speed_ratio": report.speed_ratio.tolist(),
             "problems": {k: report.problems(k).tolist() for k in KINDS}}
-    return _clean(out)
+    return jsonable(out)
 
-
-def _clean(obj):
-    if isinstance(obj, dict):
-        return {str(k): _clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_clean(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _clean(obj.tolist())
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, np.integer):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        return _num(obj)
-    return obj
 
 
 def report_text(report: ToolPathReport, robot: kin.Robot) -> str:
@@ -210,7 +174,7 @@ def cmd_validate_toolpath(args, load_robot) -> int:
     ws = _windows(robot, args)
     start = None
     if args.start is not None:
-        q = _numbers(args.start, "--start")
+        q = numbers(args.start, "--start")
         if len(q) != robot.n:
             raise kin.RmtError(f"--start: got {len(q)} values; {robot.name} has {robot.n} joints "
                                f"({', '.join(joint_units(c))})")

@@ -30,6 +30,7 @@ import numpy as np
 import kin
 
 from . import kinematics_study as ks
+from .cli_common import factor_margins
 from .kinematics_study import StudyFileError
 
 
@@ -74,8 +75,7 @@ def run_study(study: dict, out_dir: str | Path, progress=None) -> dict:
         margin = _field(sec, "windows", "margin", float)
         if margin < 0:
             raise StudyFileError(f"windows.margin: {margin} must be ≥ 0 (robot file units)")
-        margins = [margin * (c.angle_scale if any(c.joints[j - 1].is_revolute for j in f.joints) else c.length_scale)
-                   for f in analysis.factors]
+        margins = factor_margins(c, analysis, margin)
         say("windows")
         windows = build_windows(robot, margin=margins, analysis=analysis)
         results["windows"] = windows.to_dict()
