@@ -1,4 +1,4 @@
-"""The benchmark's peer models (studies/benchmarks/bench_kin.py) are the same machines as rmtkit's.
+"""The benchmark's peer models (studies/benchmarks/peers.py) are the same machines as rmtkit's.
 
 ``bench_kin`` rebuilds each arm from its DH table in pinocchio (a ``pin.Model`` joint by joint, with
 an operational frame at the tool) and in roboticstoolbox-python (``DHRobot``).  Its speed and
@@ -20,7 +20,7 @@ import pytest
 import kin
 from kin.chain import Placement
 from kin.compiled import WANT_J, WANT_T
-from studies.benchmarks import bench_kin
+from studies.benchmarks import peers
 
 TOL = 1e-12
 
@@ -71,13 +71,13 @@ def test_conventions_covered():
 def test_pinocchio_model_matches_rmtkit(chain):
     pytest.importorskip("pinocchio")
     Q, T, J = _rmtkit(chain)
-    model, fid = bench_kin.pinocchio_model(chain)
+    model, fid = peers.pinocchio_model(chain)
     assert model.nq == chain.n
     np.testing.assert_allclose(model.lowerPositionLimit, chain.lower)
     np.testing.assert_allclose(model.upperPositionLimit, chain.upper)
     data = model.createData()
     for q, Tk, Jk in zip(Q, T, J):
-        Tp, Jp = bench_kin.pinocchio_fk_jacobian(model, data, fid, q)
+        Tp, Jp = peers.pinocchio_fk_jacobian(model, data, fid, q)
         np.testing.assert_allclose(Tp, Tk, rtol=0, atol=TOL)
         np.testing.assert_allclose(Jp, Jk, rtol=0, atol=TOL)
 
@@ -86,11 +86,11 @@ def test_pinocchio_model_matches_rmtkit(chain):
 def test_rtb_robot_matches_rmtkit(chain):
     pytest.importorskip("roboticstoolbox")
     Q, T, J = _rmtkit(chain)
-    robot = bench_kin.rtb_robot(chain)
+    robot = peers.rtb_robot(chain)
     assert robot.n == chain.n
     assert robot.mdh == (chain.convention == "modified")
-    np.testing.assert_allclose(bench_kin.rtb_fk(robot, Q), T, rtol=0, atol=TOL)
-    np.testing.assert_allclose(bench_kin.rtb_fk(robot, Q[:1]), T[:1], rtol=0, atol=TOL)  # single-row batch
+    np.testing.assert_allclose(peers.rtb_fk(robot, Q), T, rtol=0, atol=TOL)
+    np.testing.assert_allclose(peers.rtb_fk(robot, Q[:1]), T[:1], rtol=0, atol=TOL)  # single-row batch
     for q, Jk in zip(Q, J):
         np.testing.assert_allclose(robot.jacob0(q), Jk, rtol=0, atol=TOL)
 
@@ -102,7 +102,7 @@ def test_finite_difference_jacobian_helper(name):
     robot = kin.Robot(chain, backend="vm")
     Q, _, J = _rmtkit(chain, count=10)
     fk = lambda X: robot.evaluate(X, WANT_T)[0]["T"]
-    Jfd = bench_kin.fd_jacobian(fk, Q, 1e-5)
+    Jfd = peers.fd_jacobian(fk, Q, 1e-5)
     np.testing.assert_allclose(Jfd, J, rtol=0, atol=1e-8)
 
 
@@ -111,4 +111,4 @@ def test_log_so3_small_and_large_angles():
     for angle in (0.0, 1e-9, 1e-4, 0.5, 2.5):
         K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
         R = np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * K @ K
-        np.testing.assert_allclose(bench_kin._log_so3(R), angle * axis, rtol=0, atol=1e-14)
+        np.testing.assert_allclose(peers._log_so3(R), angle * axis, rtol=0, atol=1e-14)

@@ -12,7 +12,7 @@ Run as ``python -m studies.benchmarks.bench_kin [--json] [--robot NAME] [--quick
    subprocess with its own temporary ``RMTKIT_CACHE``, timed inside the subprocess after the imports;
 4. peers, when the optional ``bench`` extra is installed: pinocchio (a Python loop of
    FK + frame Jacobian + det) and roboticstoolbox-python (batch ``fkine``, ``jacob0`` loop), built
-   from the chain's DH table (:func:`pinocchio_model`, :func:`rtb_robot`);
+   from the chain's DH table (:mod:`studies.benchmarks.peers`);
 5. agreement of T and J between rmtkit, pinocchio, roboticstoolbox and central finite differences.
 
 Targets (checked with PASS/MISS): batch ≥ 2e6 configurations/s (median of the public call at the
@@ -39,6 +39,15 @@ import numpy as np
 
 import kin
 from kin.compiled import WANT_J, WANT_MANIP, WANT_T, CompiledEvaluator
+from studies.benchmarks.kin_report import format_report
+from studies.benchmarks.peers import (
+    fd_jacobian,
+    pinocchio_batch,
+    pinocchio_loops,
+    rtb_batch,
+    rtb_fk,
+    rtb_loops,
+)
 
 DEFAULT_ROBOT = "fanuc_m16ib20"
 SEED = 20240611
@@ -53,117 +62,6 @@ TARGETS = {
     "agreement_pinocchio": ("max rel diff vs pinocchio (T, J)", "<=", 1e-9, ""),
     "agreement_rtb": ("max rel diff vs roboticstoolbox (T, J)", "<=", 1e-9, ""),
 }
-
-
-# ---- small numpy transforms (independent of kin.transforms) ----------------------------------
-def _rx(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[1.0, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1.0]])
-
-
-def _rz(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1.0, 0], [0, 0, 0, 1.0]])
-
-
-def _tx(x: float) -> np.ndarray:
-    T = np.eye(4)
-    T[0, 3] = x
-    return T
-
-
-def _tz(z: float) -> np.ndarray:
-    T = np.eye(4)
-    T[2, 3] = z
-    return T
-
-
-def dh_pre_post(joint_type: str, convention: str, a: float, alpha: float, d: float, theta: float):
-    """Split one DH row into fixed transforms around the joint's own motion: A_i = pre · M(q) · post.
-
-    M(q) is Rz(q) (revolute) or Tz(q) (prismatic), the motion of a pinocchio RZ / PZ joint.
-
-    * standard:  A = Rz(θ)·Tz(d)·Tx(a)·Rx(α)
-        revolute  θ = q + theta:  pre = Rz(theta),        post = Tz(d)·Tx(a)·Rx(α)
-                                  (Rz(q) and Tz(d) commute)
-        prismatic d = q + d:      pre = Rz(theta)·Tz(d),  post = Tx(a)·Rx(α)
-    * modified:  A = Rx(α)·Tx(a)·Rz(θ)·Tz(d)   (the row holds a_{i-1}, α_{i-1})
-        revolute:                 pre = Rx(α)·Tx(a)·Rz(theta),        post = Tz(d)
-        prismatic:                pre = Rx(α)·Tx(a)·Rz(theta)·Tz(d),  post = I
-    """
-    if convention == "standard":
-        if joint_type == "revolute":
-            return _rz(theta), _tz(d) @ _tx(a) @ _rx(alpha)
-        return _rz(theta) @ _tz(d), _tx(a) @ _rx(alpha)
-    if convention == "modified":
-        head = _rx(alpha) @ _tx(a) @ _rz(theta)
-        if joint_type == "revolute":
-            return head, _tz(d)
-        return head @ _tz(d), np.eye(4)
-    raise ValueError(f"convention {convention!r} unknown")
-
-
-def _segments(chain):
-    """Per joint (type, pre, post) from the chain's numeric DH table."""
-    table = chain.dh_table()
-    return [(j.type, *dh_pre_post(j.type, chain.convention, *row)) for j, row in zip(chain.joints, table)]
-
-
-# ---- peer models ---------------------------------------------------------------------------
-def pinocchio_model(chain):
-    """A ``pin.Model`` of the chain, joint by joint, plus the id of an operational frame at the tool.
-
-    Joint i's placement in its parent joint's frame is post_{i-1} · pre_i (post_0 = base), so that
-    pinocchio's joint frame i is base · A_1 ⋯ A_{i-1} · pre_i · M(q_i); the tool frame sits at
-    post_n · tool in the last joint's frame.  World frame = rmtkit's base (reference) frame.
-    """
-    import pinocchio as pin
-
-    model = pin.Model()
-    model.name = chain.name
-    parent, carry = 0, chain.base.matrix
-    for i, ((jtype, pre, post), (lo, hi)) in enumerate(zip(_segments(chain), chain.limits), 1):
-        jm = pin.JointModelRZ() if jtype == "revolute" else pin.JointModelPZ()
-        big = np.array([1e3])
-        parent = model.addJoint(parent, jm, pin.SE3(carry @ pre), f"joint{i}", big, big,
-                                np.array([lo]), np.array([hi]))
-        carry = post
-    fid = model.addFrame(pin.Frame("tool", parent, 0, pin.SE3(carry @ chain.tool.matrix), pin.FrameType.OP_FRAME))
-    return model, fid
-
-
-def pinocchio_fk_jacobian(model, data, fid, q):
-    """(T 4×4, J 6×n) at the tool frame; J in LOCAL_WORLD_ALIGNED (rows vx vy vz wx wy wz)."""
-    import pinocchio as pin
-
-    pin.computeJointJacobians(model, data, q)  # includes forward kinematics
-    J = pin.getFrameJacobian(model, data, fid, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)  # updates oMf[fid]
-    return data.oMf[fid].homogeneous, J
-
-
-def rtb_robot(chain):
-    """A ``roboticstoolbox.DHRobot`` of the chain (standard or modified links, offsets, base, tool)."""
-    import roboticstoolbox as rtb
-    from spatialmath import SE3
-
-    links = []
-    mod = chain.convention == "modified"
-    for j, (a, alpha, d, theta), (lo, hi) in zip(chain.joints, chain.dh_table(), chain.limits):
-        qlim = [lo, hi]
-        if j.type == "revolute":
-            cls = rtb.RevoluteMDH if mod else rtb.RevoluteDH
-            links.append(cls(d=d, a=a, alpha=alpha, offset=theta, qlim=qlim))
-        else:
-            cls = rtb.PrismaticMDH if mod else rtb.PrismaticDH
-            links.append(cls(theta=theta, a=a, alpha=alpha, offset=d, qlim=qlim))
-    return rtb.DHRobot(links, name=chain.name, base=SE3(chain.base.matrix, check=False),
-                       tool=SE3(chain.tool.matrix, check=False))
-
-
-def rtb_fk(robot, Q) -> np.ndarray:
-    """Batch FK through ``robot.fkine(Q)`` → (N, 4, 4)."""
-    T = robot.fkine(Q)
-    return np.asarray(T.A).reshape(-1, 4, 4)
 
 
 # ---- helpers -----------------------------------------------------------------------------
@@ -194,33 +92,6 @@ def _rel(a, b) -> float:
     """max |a − b| / max(1, |b|), elementwise."""
     a, b = np.asarray(a, float), np.asarray(b, float)
     return float(np.max(np.abs(a - b) / np.maximum(1.0, np.abs(b)))) if a.size else 0.0
-
-
-def _log_so3(R: np.ndarray) -> np.ndarray:
-    """Rotation vectors of rotation matrices (..., 3, 3); robust for small angles (not near π)."""
-    w = 0.5 * np.stack([R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]], -1)
-    s = np.linalg.norm(w, axis=-1)
-    c = 0.5 * (np.trace(R, axis1=-2, axis2=-1) - 1.0)
-    th = np.arctan2(s, c)
-    k = np.where(s > 1e-300, th / np.where(s > 1e-300, s, 1.0), 1.0)
-    return w * k[..., None]
-
-
-def fd_jacobian(fk_batch, Q: np.ndarray, h: float, revolute: np.ndarray | None = None) -> np.ndarray:
-    """Central-difference geometric Jacobian (N, 6, n) from a batch FK (M, n) → (M, 4, 4).
-
-    Position rows: (p(q + h e_i) − p(q − h e_i)) / 2h; angular rows: log(R(q + h e_i) R(q − h e_i)ᵀ) / 2h.
-    """
-    N, n = Q.shape
-    E = np.eye(n) * h
-    Qp = (Q[:, None, :] + E[None]).reshape(-1, n)
-    Qm = (Q[:, None, :] - E[None]).reshape(-1, n)
-    Tp, Tm = fk_batch(Qp).reshape(N, n, 4, 4), fk_batch(Qm).reshape(N, n, 4, 4)
-    J = np.empty((N, 6, n))
-    J[:, :3, :] = ((Tp[..., :3, 3] - Tm[..., :3, 3]) / (2 * h)).transpose(0, 2, 1)
-    W = _log_so3(Tp[..., :3, :3] @ Tm[..., :3, :3].swapaxes(-1, -2)) / (2 * h)
-    J[:, 3:, :] = W.transpose(0, 2, 1)
-    return J
 
 
 # ---- 1. batch ----------------------------------------------------------------------------
@@ -334,58 +205,29 @@ def bench_peers(robot, n_pin: int, n_rtb: int, single_calls: int) -> dict:
     if pin is None:
         out["pinocchio"] = {"skipped": why}
     else:
-        model, fid = pinocchio_model(chain)
-        data = model.createData()
         Q = robot.random_configurations(n_pin, seed=SEED + 3)
-        LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
-        det = np.linalg.det
-        cjj, gfj = pin.computeJointJacobians, pin.getFrameJacobian
-        oMf = data.oMf
-
-        def loop_full():
-            res = np.empty(n_pin)
-            for k in range(n_pin):
-                cjj(model, data, Q[k])
-                J = gfj(model, data, fid, LWA)
-                oMf[fid].homogeneous
-                res[k] = abs(det(J))
-            return res
-
-        def loop_fkj():
-            for k in range(n_pin):
-                cjj(model, data, Q[k])
-                gfj(model, data, fid, LWA)
-                oMf[fid].homogeneous
-
-        loop_full()
-        q0 = Q[0]
+        pl = pinocchio_loops(chain, Q)
+        pl.fk_j_manip()
         out["pinocchio"] = {
             "version": pin.__version__,
             "configs": n_pin,
-            "loop_fk_j_manip": _stats(_time_repeat(loop_full, 3), n_pin),
-            "loop_fk_j": _stats(_time_repeat(loop_fkj, 3), n_pin),
-            "single_fk_j": _latency_us(lambda: (cjj(model, data, q0), gfj(model, data, fid, LWA),
-                                                oMf[fid].homogeneous), single_calls, 5),
+            "loop_fk_j_manip": _stats(_time_repeat(pl.fk_j_manip, 3), n_pin),
+            "loop_fk_j": _stats(_time_repeat(pl.fk_j, 3), n_pin),
+            "single_fk_j": _latency_us(pl.single_fk_j, single_calls, 5),
         }
     rtb, why = _try_import("roboticstoolbox")
     if rtb is None:
         out["roboticstoolbox"] = {"skipped": why}
     else:
-        r = rtb_robot(chain)
         Q = robot.random_configurations(n_rtb, seed=SEED + 4)
-        rtb_fk(r, Q[:10])
-        jac = r.jacob0
-
-        def jloop():
-            for k in range(n_rtb):
-                jac(Q[k])
-
-        jloop()
+        rl = rtb_loops(chain, Q)
+        rtb_fk(rl.robot, Q[:10])
+        rl.jacob0_loop()
         out["roboticstoolbox"] = {
             "version": rtb.__version__,
             "configs": n_rtb,
-            "fkine_batch": _stats(_time_repeat(lambda: rtb_fk(r, Q), 3), n_rtb),
-            "jacob0_loop": _stats(_time_repeat(jloop, 3), n_rtb),
+            "fkine_batch": _stats(_time_repeat(rl.fkine_batch, 3), n_rtb),
+            "jacob0_loop": _stats(_time_repeat(rl.jacob0_loop, 3), n_rtb),
         }
     return out
 
@@ -408,27 +250,21 @@ def agreement(robot, count: int) -> dict:
     if pin is None:
         out["pinocchio"] = {"skipped": why}
     else:
-        model, fid = pinocchio_model(robot.chain)
-        data = model.createData()
-        pairs = [pinocchio_fk_jacobian(model, data, fid, q) for q in Q]
-        Tp = np.array([p[0] for p in pairs])
-        Jp = np.array([p[1] for p in pairs])
+        Tp, Jp = pinocchio_batch(robot.chain, Q)
         out["pinocchio"] = {"T": _rel(T, Tp), "J": _rel(J, Jp),
                             "manipulability": _rel(manip, np.abs(np.linalg.det(Jp)))}
     rtb, why = _try_import("roboticstoolbox")
     if rtb is None:
         out["roboticstoolbox"] = {"skipped": why}
     else:
-        r = rtb_robot(robot.chain)
-        Tr = rtb_fk(r, Q)
-        Jr = np.array([r.jacob0(q) for q in Q])
+        Tr, Jr = rtb_batch(robot.chain, Q)
         out["roboticstoolbox"] = {"T": _rel(T, Tr), "J": _rel(J, Jr)}
         if Tp is not None:
             out["pinocchio_vs_rtb"] = {"T": _rel(Tp, Tr), "J": _rel(Jp, Jr)}
     return out
 
 
-# ---- report ------------------------------------------------------------------------------
+# ---- targets and the whole run -----------------------------------------------------------
 def _check(key: str, value) -> dict:
     desc, op, thr, unit = TARGETS[key]
     if value is None or (isinstance(value, float) and math.isnan(value)):
@@ -505,104 +341,6 @@ def run(name: str, quick: bool, log=None) -> dict:
         "targets": targets,
         "elapsed_s": time.perf_counter() - t_start,
     }
-
-
-def _fmt_rate(x: float) -> str:
-    return f"{x / 1e6:8.3f} M/s"
-
-
-def format_report(R: dict) -> str:
-    L = []
-    env = R["environment"]
-    L.append(f"bench_kin — {R['robot']} ({env['backend']} backend; {env['cpu_count']} CPUs; "
-             f"RMTKIT_THREADS={env['RMTKIT_THREADS']}; python {env['python']}, numpy {env['numpy']}, "
-             f"casadi {env['casadi']}){' [quick]' if R['quick'] else ''}")
-    L.append(f"load average (1 min) before / after: {env['loadavg_1min_before']:.2f} / {env['loadavg_1min_after']:.2f}"
-             " — other processes on the machine distort every timing below")
-    L.append("")
-    L.append("1. batch FK + J(6x6) + manipulability, configurations/s (best / median)")
-    for N, rec in R["batch"]["sizes"].items():
-        pa = rec["public_alloc"]
-        L.append(f"   N={int(N):>9,d}  robot.evaluate(Q, T|J|MANIP), allocates outputs : "
-                 f"{_fmt_rate(pa['best_cfg_per_s'])} / {_fmt_rate(pa['median_cfg_per_s'])}  ({pa['repeats']} runs)")
-        if "kernel_prealloc" in rec:
-            kp = rec["kernel_prealloc"]
-            L.append(f"   N={int(N):>9,d}  kernel into preallocated buffers (private entry) : "
-                     f"{_fmt_rate(kp['best_cfg_per_s'])} / {_fmt_rate(kp['median_cfg_per_s'])}"
-                     f"  (same numbers: {kp['matches_public']})")
-            L.append(f"   {'':13s}  alloc + first touch of outputs alone {rec['alloc_first_touch_s'] * 1e3:7.1f} ms; "
-                     f"input check (as_batch) {rec['as_batch_check_s'] * 1e3:6.1f} ms; "
-                     f"public median {pa['median_s'] * 1e3:7.1f} ms vs kernel {kp['median_s'] * 1e3:7.1f} ms")
-    v = R["batch_variants_100000"]
-    L.append("   N=  100,000  public call, other outputs (median): " +
-             ", ".join(f"{k} {_fmt_rate(s['median_cfg_per_s']).strip()}" for k, s in v.items()))
-    L.append("")
-    s = R["single"]
-    L.append("2. single call, µs (best / median)")
-    for k, lab in (("fk_jacobian", "robot.fk_jacobian(q)"), ("fk", "robot.fk(q)"),
-                   ("kernel_one_T|J", "evaluator.one(q, T|J) (C call only)")):
-        if k in s:
-            L.append(f"   {lab:38s} {s[k]['best_us']:7.2f} / {s[k]['median_us']:7.2f}   ({s[k]['calls']} calls x {s[k]['repeats']})")
-    L.append("")
-    L.append("3. start-up, s (inside a fresh subprocess, after imports; fresh RMTKIT_CACHE)")
-    for k in ("cold", "warm"):
-        r = R["startup"][k]
-        L.append(f"   {k:4s} total {r['total_s']:7.3f}  = load_chain {r['load_chain_s']:.3f} + symbolic "
-                 f"{r['symbolic_s']:.3f} + evaluator {r['evaluator_s']:.3f} + first fk {r['first_fk_s']:.4f}"
-                 f"   (cached={r['cached']}, backend={r['backend']}; subprocess wall incl. imports "
-                 f"{r['subprocess_wall_s']:.2f})")
-        if "codegen_again_s" in r:
-            L.append(f"        (C code generation + hashing alone, re-run afterwards: {r['codegen_again_s']:.3f})")
-    L.append("")
-    L.append("4. peers")
-    p = R["peers"]
-    if "skipped" in p["pinocchio"]:
-        L.append(f"   pinocchio: skipped — {p['pinocchio']['skipped']}")
-    else:
-        pp = p["pinocchio"]
-        L.append(f"   pinocchio {pp['version']}, Python loop over {pp['configs']:,d} configurations (best / median):")
-        L.append(f"     FK + frame Jacobian + |det J|  {_fmt_rate(pp['loop_fk_j_manip']['best_cfg_per_s'])} / "
-                 f"{_fmt_rate(pp['loop_fk_j_manip']['median_cfg_per_s'])}")
-        L.append(f"     FK + frame Jacobian            {_fmt_rate(pp['loop_fk_j']['best_cfg_per_s'])} / "
-                 f"{_fmt_rate(pp['loop_fk_j']['median_cfg_per_s'])}")
-        L.append(f"     single FK + J call, µs         {pp['single_fk_j']['best_us']:7.2f} / {pp['single_fk_j']['median_us']:7.2f}")
-    if "skipped" in p["roboticstoolbox"]:
-        L.append(f"   roboticstoolbox: skipped — {p['roboticstoolbox']['skipped']}")
-    else:
-        rr = p["roboticstoolbox"]
-        L.append(f"   roboticstoolbox {rr['version']}, {rr['configs']:,d} configurations (best / median):")
-        L.append(f"     fkine(Q) batch                 {_fmt_rate(rr['fkine_batch']['best_cfg_per_s'])} / "
-                 f"{_fmt_rate(rr['fkine_batch']['median_cfg_per_s'])}")
-        L.append(f"     jacob0(q) loop                 {_fmt_rate(rr['jacob0_loop']['best_cfg_per_s'])} / "
-                 f"{_fmt_rate(rr['jacob0_loop']['median_cfg_per_s'])}")
-    if R["ratios"]:
-        L.append("   ratios rmtkit / peer (medians; rmtkit public batch call at N=1e5, multi-threaded, "
-                 "against single-threaded Python loops of the peers):")
-        for k, x in R["ratios"].items():
-            L.append(f"     {k:50s} {x:10.1f}x")
-    L.append("")
-    a = R["agreement"]
-    L.append(f"5. agreement over {a['configs']} configurations ({a['metric']})")
-    for k in ("pinocchio", "roboticstoolbox", "pinocchio_vs_rtb"):
-        if k not in a:
-            continue
-        if "skipped" in a[k]:
-            L.append(f"   rmtkit vs {k}: skipped")
-        else:
-            lab = "pinocchio vs rtb" if k == "pinocchio_vs_rtb" else f"rmtkit vs {k}"
-            L.append(f"   {lab:28s} " + "  ".join(f"{m} {x:.2e}" for m, x in a[k].items()))
-    fd = a["finite_differences"]
-    L.append("   rmtkit J vs central FD of rmtkit FK: " +
-             "; ".join(f"h={h}: pos {d['J_pos']:.1e}, rot {d['J_rot']:.1e}" for h, d in fd["steps"].items()) +
-             f"  (best h={fd['best_step']:g}: {fd['J']:.1e}; step-size limited, no target)")
-    L.append("")
-    L.append("targets")
-    for t in R["targets"]:
-        v = t["value"]
-        vs = "—" if v is None or (isinstance(v, float) and math.isnan(v)) else f"{v:.4g}"
-        L.append(f"   {t['status']:4s}  {t['what']:40s} {vs:>12s}   target {t['target']}")
-    L.append(f"\n(elapsed {R['elapsed_s']:.1f} s)")
-    return "\n".join(L)
 
 
 def main(argv=None) -> int:
