@@ -23,7 +23,13 @@ from kin.errors import ConfigurationError
 
 from .errors import PlanningError
 from .ompl_setup import ob, og, quiet_rng_seed
-from .validate import DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, PathCheck, check_path, densify
+from .validate import (
+    DEFAULT_STEP_ANGLE,
+    DEFAULT_STEP_LENGTH,
+    PathCheck,
+    check_path,
+    densify,
+)
 from .validity import JointSpaceChecker, KeepOutBox
 
 PLANNERS = {

@@ -32,7 +32,13 @@ from .toolpath_geometry import (
     rpy_to_matrices,
     times_from_feed,
 )
-from .toolpath_model import MAX_WAYPOINTS, ToolPath, ToolPathError, robot_units
+from .toolpath_model import (
+    MAX_WAYPOINTS,
+    ToolPath,
+    ToolPathError,
+    read_toolpath_text,
+    robot_units,
+)
 
 __all__ = ["read_toolpath_csv", "parse_toolpath_csv", "CSV_COLUMNS"]
 
@@ -50,14 +56,7 @@ def read_toolpath_csv(path: str | Path, robot) -> ToolPath:
 
     ``robot`` is a :class:`kin.Robot` or :class:`kin.Chain`; only its units are used.
     """
-    path = Path(path)
-    src = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ToolPathError("no such tool-path file", src) from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise ToolPathError(f"cannot read file ({e})", src) from None
+    text, src = read_toolpath_text(path)
     length_unit, angle_unit = robot_units(robot)
     return parse_toolpath_csv(text, LENGTH_UNITS[length_unit], ANGLE_UNITS[angle_unit], src,
                               (length_unit, angle_unit))

@@ -7,6 +7,7 @@ The readers (:mod:`planning.toolpath_csv`, :mod:`planning.toolpath_segments`) bu
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Sequence
 
 import numpy as np
@@ -138,3 +139,15 @@ def robot_units(robot) -> tuple[str, str]:
     """(length unit, angle unit) of a Robot or Chain: the units a tool-path file is read in."""
     chain = getattr(robot, "chain", robot)
     return chain.length_unit, chain.angle_unit
+
+
+def read_toolpath_text(path: str | Path) -> tuple[str, str]:
+    """The text of a tool-path file and its name for messages; :class:`ToolPathError` if unreadable."""
+    path = Path(path)
+    src = str(path)
+    try:
+        return path.read_text(encoding="utf-8"), src
+    except FileNotFoundError:
+        raise ToolPathError("no such tool-path file", src) from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise ToolPathError(f"cannot read file ({e})", src) from None

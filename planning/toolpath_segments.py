@@ -44,7 +44,13 @@ from .toolpath_geometry import (
     slerp,
     times_from_feed,
 )
-from .toolpath_model import MAX_WAYPOINTS, ToolPath, ToolPathError, robot_units
+from .toolpath_model import (
+    MAX_WAYPOINTS,
+    ToolPath,
+    ToolPathError,
+    read_toolpath_text,
+    robot_units,
+)
 
 __all__ = ["read_toolpath_toml", "parse_toolpath_toml", "SEGMENT_TYPES"]
 
@@ -113,14 +119,7 @@ def read_toolpath_toml(path: str | Path, robot) -> ToolPath:
 
     Values are in ``robot``'s file units unless the file sets ``length_unit`` / ``angle_unit``.
     """
-    path = Path(path)
-    src = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ToolPathError("no such tool-path file", src) from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise ToolPathError(f"cannot read file ({e})", src) from None
+    text, src = read_toolpath_text(path)
     return parse_toolpath_toml(text, robot, src)
 
 
