@@ -84,9 +84,15 @@ class VMEvaluator:
             q = Q[s:s + chunk]
             k = len(q)
             p = np.broadcast_to(P if P.ndim == 1 else P[s:s + chunk], (k, P.shape[-1]))
-            T, J = self._mapped(k)(q.T, p.T)
-            Ts.append(np.asarray(T).reshape(4, k, 4).transpose(1, 0, 2))
-            Js.append(np.asarray(J).reshape(6, k, n).transpose(1, 0, 2))
+            # mapped functions exist for powers of two only (padded with the last row), so that
+            # batches of ever-changing size (IK's active sets) reuse at most 13 of them
+            m = 1 << (k - 1).bit_length()
+            if m != k:
+                q = np.vstack([q, np.repeat(q[-1:], m - k, axis=0)])
+                p = np.vstack([p, np.repeat(p[-1:], m - k, axis=0)])
+            T, J = self._mapped(m)(q.T, p.T)
+            Ts.append(np.asarray(T).reshape(4, m, 4).transpose(1, 0, 2)[:k])
+            Js.append(np.asarray(J).reshape(6, m, n).transpose(1, 0, 2)[:k])
         out: dict[str, np.ndarray] = {}
         J = np.concatenate(Js) if Js else np.zeros((0, 6, n))
         if want & WANT_T:
