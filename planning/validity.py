@@ -50,7 +50,7 @@ class JointSpaceChecker:
         self.revolute = self.chain.revolute_mask
         self._intervals: list[tuple[int, list[tuple[float, float]]]] = []
         self._predicates = []
-        self._predicates_np = []        # the same factors, numpy: g(Qᵀ) for Qᵀ of shape (n, K)
+        self._predicate_windows = []    # the same windows, for batches (Window.contains, numpy)
         widths_rev, widths_len = [MAX_MOTION_STEP_ANGLE * 5], [MAX_MOTION_STEP_LENGTH * 5]
         if windows is not None:
             if windows.n != self.n:
@@ -64,7 +64,7 @@ class JointSpaceChecker:
                 else:
                     expr = sp.sympify(w.expr, locals={f"q{i + 1}": q[i] for i in range(self.n)})
                     self._predicates.append((sp.lambdify([q], expr, modules="math"), float(w.epsilon)))
-                    self._predicates_np.append((sp.lambdify([q], expr, modules="numpy"), float(w.epsilon)))
+                    self._predicate_windows.append(w)
         # the motion step: a fifth of the narrowest window, at most 1° / 1 mm
         self.step_angle = min(MAX_MOTION_STEP_ANGLE, min(widths_rev) / 5)
         self.step_length = min(MAX_MOTION_STEP_LENGTH, min(widths_len) / 5)
@@ -171,14 +171,13 @@ class JointSpaceChecker:
             for lo, hi in ivs:
                 if lo <= v and u <= hi:
                     return False
-        if not (self._predicates_np or self.sigma_floor is not None or self.boxes):
+        if not (self._predicate_windows or self.sigma_floor is not None or self.boxes):
             return True
         Q = self.motion_states(a, b)[1:-1]          # the end states are already checked
         if len(Q) == 0:
             return True
-        QT = Q.T
-        for g, eps in self._predicates_np:
-            if (np.abs(g(QT)) <= eps).any():
+        for w in self._predicate_windows:
+            if w.contains(Q).any():
                 return False
         if self.sigma_floor is not None and (self.robot.sigma_min(Q) < self.sigma_floor).any():
             return False
