@@ -5,11 +5,11 @@
 >>> robot.fk([0, 0, 0, 0, 0, 0])[:3, 3]        # doctest: +SKIP
 array([1.02 , 0.   , 1.365])
 """
-from .chain import Chain, Joint, Parameter, Placement
-from .errors import (ChainError, CompileError, ConfigurationError, JointLimitError, ParameterError, RmtError,
+from kin.chain import Chain, Joint, Parameter, Placement
+from kin.errors import (ChainError, CompileError, ConfigurationError, JointLimitError, ParameterError, RmtError,
                      RobotFileError, UnknownRobotError)
-from .robot import Measures, Robot, load_robot
-from .robotfile import bundled_robots, dumps_robot, load_chain, loads_robot, save_robot
+from kin.robot import Measures, Robot, load_robot
+from kin.robotfile import bundled_robots, dumps_robot, load_chain, loads_robot, save_robot
 
 __all__ = ["Chain", "Joint", "Parameter", "Placement", "Robot", "Measures", "load_robot", "load_chain",
            "loads_robot", "dumps_robot", "save_robot", "bundled_robots", "RmtError", "RobotFileError",

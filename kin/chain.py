@@ -22,8 +22,8 @@ from typing import Literal, Mapping, Sequence
 
 import numpy as np
 
-from .errors import ChainError, ConfigurationError, JointLimitError, ParameterError
-from .transforms import make_transform, rigidity_defect, rot_x, rpy_to_matrix
+from kin.errors import ChainError, ConfigurationError, JointLimitError, ParameterError
+from kin.transforms import make_transform, rigidity_defect, rot_x, rpy_to_matrix
 
 JointType = Literal["revolute", "prismatic"]
 Convention = Literal["standard", "modified"]

@@ -16,9 +16,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .compiled import WANT_J, WANT_T
-from .errors import ConfigurationError
-from .transforms import rotation_error
+from kin.compiled import WANT_J, WANT_T
+from kin.errors import ConfigurationError
+from kin.transforms import rotation_error
 
 MODES = ("auto", "pose", "position")
 

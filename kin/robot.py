@@ -12,11 +12,11 @@ from typing import Mapping, NamedTuple
 
 import numpy as np
 
-from .chain import Chain
-from .compiled import WANT_J, WANT_MANIP, WANT_SIGMA, WANT_T, CompiledEvaluator, make_evaluator
-from .errors import ParameterError
-from .robotfile import load_chain
-from .symbolic import SymbolicChain
+from kin.chain import Chain
+from kin.compiled import WANT_J, WANT_MANIP, WANT_SIGMA, WANT_T, CompiledEvaluator, make_evaluator
+from kin.errors import ParameterError
+from kin.robotfile import load_chain
+from kin.symbolic import SymbolicChain
 
 
 class Measures(NamedTuple):
@@ -180,7 +180,7 @@ class Robot:
     # ---- inverse kinematics -------------------------------------------------------------------
     def ik(self, T, seed: int = 0, **options):
         """Inverse kinematics of a target pose (4, 4) or batch (N, 4, 4); see :func:`kin.ik.solve_ik`."""
-        from .ik import solve_ik
+        from kin.ik import solve_ik
         return solve_ik(self, T, seed=seed, **options)
 
 

@@ -14,10 +14,10 @@ from typing import Any
 
 import numpy as np
 
-from .chain import (ANGLE_UNITS, CONVENTIONS, DH_FIELDS, JOINT_TYPES, LENGTH_FIELDS,
+from kin.chain import (ANGLE_UNITS, CONVENTIONS, DH_FIELDS, JOINT_TYPES, LENGTH_FIELDS,
                     LENGTH_UNITS, NAME_RE, TASK_ROWS, Chain, Joint, Parameter, Placement)
-from .errors import ChainError, RobotFileError, UnknownRobotError
-from .transforms import rigidity_defect
+from kin.errors import ChainError, RobotFileError, UnknownRobotError
+from kin.transforms import rigidity_defect
 
 ROBOT_DIR = Path(__file__).parent / "robots"
 TOP_FIELDS = ("name", "title", "source", "convention", "length_unit", "angle_unit", "joints", "base",

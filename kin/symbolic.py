@@ -16,7 +16,7 @@ from functools import cached_property
 import casadi as ca
 import numpy as np
 
-from .chain import Chain
+from kin.chain import Chain
 
 _EXACT_TOL = 1e-12
 

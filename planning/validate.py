@@ -17,7 +17,7 @@ import numpy as np
 
 from kin.errors import ConfigurationError
 
-from .windows import WindowSet
+from planning.windows import WindowSet
 
 DEFAULT_STEP_ANGLE = math.radians(0.1)   # rad
 DEFAULT_STEP_LENGTH = 1e-4               # m

@@ -1,6 +1,6 @@
 """Singular error windows: a neighbourhood in joint space around each factor of the singular set.
 
-A window belongs to one factor g of det J (see :mod:`kin.singularity`):
+A window belongs to one factor g of det J (see :mod:`kin.singular`):
 
 * a factor of one joint j gives a union of intervals of q_j around its roots, r ± w;
 * any other factor gives the predicate |g(q)| ≤ ε, with ε = w · max‖∇g‖ over sampled points of
@@ -9,7 +9,7 @@ A window belongs to one factor g of det J (see :mod:`kin.singularity`):
 
 The width w (rad for revolute joints, m for prismatic ones, SI) comes from an explicit margin,
 from a dexterity threshold (the smallest margin outside which σ_min ≥ s, or manipulability ≥ m,
-found by sampling the factor's neighbourhood), or from a learned-IK error (``design.learned_ik``).
+found by sampling the factor's neighbourhood), or from a learned-IK error (``design.learned.ik``).
 Windows save to and load from JSON; membership of a batch is vectorised.
 """
 from __future__ import annotations
@@ -24,9 +24,9 @@ from typing import Callable, Sequence
 import numpy as np
 import sympy as sp
 
-from kin.singularity import SingularFactor, SingularityAnalysis, analyse_singularities
+from kin.singular import SingularFactor, SingularityAnalysis, analyse_singularities
 
-from .errors import WindowError
+from planning.errors import WindowError
 
 METHODS = ("margin", "sigma_min", "manipulability", "learned")
 #: dexterity margins are widened by this factor beyond the last sample they had to include

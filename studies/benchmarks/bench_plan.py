@@ -48,7 +48,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import kin
-from planning.ompl_planner import plan
+from planning.ompl.planner import plan
 from planning.validate import check_path, densify
 from planning.windows import WindowSet, build_windows
 

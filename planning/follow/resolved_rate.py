@@ -1,0 +1,112 @@
+"""The naive method the path follower (:func:`planning.follow.follow_path`) is compared with.
+
+:func:`resolved_rate` is open-loop resolved-rate control q_{k+1} = q_k + J⁻¹·ẋ_des·Δt, with
+``np.linalg.solve`` — and, where ``solve`` raises because J is exactly singular, the pseudo-inverse
+(``np.linalg.pinv``), recorded per step together with the condition number of J.
+"""
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from planning.follow.inputs import _check_start, _path_arrays
+from planning.follow.tracking import _log_rot, tracking_errors
+
+__all__ = ["resolved_rate", "ResolvedRateResult"]
+
+
+@dataclass
+class ResolvedRateResult:
+    """Result of :func:`resolved_rate` (SI units); arrays as in
+    :class:`~planning.follow.result.FollowResult`.
+
+    ``condition`` (N−1,): condition number of J at each step (inf when exactly singular);
+    ``pinv_steps``: steps where ``np.linalg.solve`` raised (J exactly singular) and the
+    pseudo-inverse was used; ``diverged_at``: first row whose configuration is not finite (None when
+    all are); rows from there on are NaN.
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    position_error: np.ndarray
+    orientation_error: np.ndarray
+    joint_velocity: np.ndarray
+    joint_speed: np.ndarray
+    condition: np.ndarray
+    pinv_steps: list[int]
+    diverged_at: int | None
+    method: str
+
+    @property
+    def peak_joint_speed(self) -> float:
+        return float(np.nanmax(self.joint_speed)) if np.isfinite(self.joint_speed).any() else math.inf
+
+    @property
+    def max_tracking_error(self) -> float:
+        return float(np.nanmax(self.position_error))
+
+    @property
+    def max_orientation_error(self) -> float:
+        return float(np.nanmax(self.orientation_error))
+
+    def summary(self) -> dict:
+        finite = self.condition[np.isfinite(self.condition)]
+        return {"method": self.method, "waypoints": int(len(self.t)),
+                "peak_joint_speed": self.peak_joint_speed, "max_position_error_m": self.max_tracking_error,
+                "max_orientation_error_rad": self.max_orientation_error,
+                "pinv_steps": len(self.pinv_steps), "first_pinv_steps": self.pinv_steps[:5],
+                "max_finite_condition": float(finite.max()) if finite.size else None,
+                "singular_steps": int((~np.isfinite(self.condition)).sum()), "diverged_at": self.diverged_at}
+
+
+def resolved_rate(robot, path, q0, dt: float | None = None,
+                  jacobian: Callable[[np.ndarray], np.ndarray] | None = None) -> ResolvedRateResult:
+    """Open-loop resolved-rate control: q_{k+1} = q_k + J(q_k)⁻¹·ẋ_des,k·Δt, no feedback, no limits.
+
+    ẋ_des,k = [p*_{k+1} − p*_k; log(R*_{k+1}·R*_kᵀ)]/Δt (base frame).  J⁻¹·ẋ is computed with
+    ``np.linalg.solve``; where it raises ``LinAlgError`` (J exactly singular in floating point) the
+    pseudo-inverse ``np.linalg.pinv(J)·ẋ`` (minimum-norm least squares) is used and the step is
+    listed in ``pinv_steps``.  A Jacobian with n ≠ 6 columns always uses the pseudo-inverse.  The
+    condition number of J is recorded at every step.  ``jacobian(q) -> (6, n)`` replaces the robot's
+    geometric Jacobian (to reproduce a method with a different one).  Joint limits are not enforced:
+    this is the method as a homework would write it.
+    """
+    poses, t = _path_arrays(path, dt, "pose")
+    q = _check_start(robot, q0)
+    jac = jacobian or robot.jacobian
+    N, n = len(poses), robot.n
+    Q = np.full((N, n), np.nan)
+    Q[0] = q
+    cond = np.full(N - 1, np.nan)
+    pinv_steps: list[int] = []
+    diverged = None
+    for k in range(N - 1):
+        dx = np.empty(6)
+        dx[:3] = poses[k + 1, :3, 3] - poses[k, :3, 3]
+        dx[3:] = _log_rot(poses[k + 1, :3, :3], poses[k, :3, :3])
+        J = np.asarray(jac(q), dtype=float)
+        with np.errstate(all="ignore"):
+            # inf when J is exactly singular (σ_min = 0)
+            cond[k] = np.linalg.cond(J) if np.all(np.isfinite(J)) else np.nan
+        try:
+            if J.shape[1] != J.shape[0]:
+                raise np.linalg.LinAlgError("not square")
+            dq = np.linalg.solve(J, dx)
+        except np.linalg.LinAlgError:
+            dq = np.linalg.pinv(J) @ dx
+            pinv_steps.append(k)
+        q = q + dq
+        if not np.all(np.isfinite(q)):
+            diverged = k + 1
+            break
+        Q[k + 1] = q
+    pe, oe, _ = tracking_errors(robot, Q, poses)
+    vel = np.full_like(Q, np.nan)
+    vel[0] = 0.0
+    vel[1:] = np.diff(Q, axis=0) / np.diff(t)[:, None]
+    return ResolvedRateResult(t=t, q=Q, position_error=pe, orientation_error=oe, joint_velocity=vel,
+                              joint_speed=np.abs(vel), condition=cond, pinv_steps=pinv_steps, diverged_at=diverged,
+                              method="q += solve(J, ẋ·Δt); pinv where solve raises (J exactly singular)")

@@ -1,0 +1,204 @@
+"""State and motion validity in joint space: limits, singular windows, a σ_min floor, keep-out boxes.
+
+:class:`JointSpaceChecker` answers OMPL's two questions.  ``state_valid`` is on the planner's hot
+path and works on plain Python floats (interval windows are interval tests, other windows a
+scalar formula; σ_min only when a floor is set).  ``motion_valid`` checks a straight motion:
+its end states, the interval windows and limits exactly, and the other constraints as one numpy
+batch at a joint step finer than the narrowest window, so no window can be jumped.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from planning.errors import PlanningError
+
+MAX_MOTION_STEP_ANGLE = math.radians(1.0)
+MAX_MOTION_STEP_LENGTH = 1e-3
+
+
+@dataclass(frozen=True)
+class KeepOutBox:
+    """An axis-aligned box (base frame, m) that the tool point — and with ``all_frames`` every
+    joint-frame origin — must stay out of."""
+
+    lower: tuple[float, float, float]
+    upper: tuple[float, float, float]
+    all_frames: bool = False
+
+    def contains(self, P: np.ndarray) -> np.ndarray:
+        P = np.atleast_2d(P)
+        return np.all((P >= np.asarray(self.lower)) & (P <= np.asarray(self.upper)), axis=1)
+
+
+class JointSpaceChecker:
+    """Validity of configurations and straight motions for one robot and set of constraints."""
+
+    def __init__(self, robot, windows=None, sigma_floor: float | None = None, boxes=(),
+                 motion_step: float | None = None):
+        self.robot = robot
+        self.chain = robot.chain
+        self.n = robot.n
+        self.windows = windows
+        self.sigma_floor = sigma_floor
+        self.boxes = tuple(boxes)
+        self.lower = [float(x) for x in self.chain.lower]
+        self.upper = [float(x) for x in self.chain.upper]
+        self.revolute = self.chain.revolute_mask
+        self._intervals: list[tuple[int, list[tuple[float, float]]]] = []
+        self._predicates = []
+        self._predicate_windows = []    # the same windows, for batches (Window.contains, numpy)
+        widths_rev, widths_len = [MAX_MOTION_STEP_ANGLE * 5], [MAX_MOTION_STEP_LENGTH * 5]
+        if windows is not None:
+            if windows.n != self.n:
+                raise PlanningError(f"windows are for a {windows.n}-joint robot; {self.chain.name} has {self.n} joints")
+            q = sp.symbols(f"q1:{self.n + 1}", real=True)
+            for w in windows.windows:
+                revolute = any(self.revolute[j - 1] for j in w.joints)
+                (widths_rev if revolute else widths_len).append(2 * w.width if w.width > 0 else math.inf)
+                if w.is_interval:
+                    self._intervals.append((w.joint, list(w.intervals)))
+                else:
+                    expr = sp.sympify(w.expr, locals={f"q{i + 1}": q[i] for i in range(self.n)})
+                    self._predicates.append((sp.lambdify([q], expr, modules="math"), float(w.epsilon)))
+                    self._predicate_windows.append(w)
+        # the motion step: a fifth of the narrowest window, at most 1° / 1 mm
+        self.step_angle = min(MAX_MOTION_STEP_ANGLE, min(widths_rev) / 5)
+        self.step_length = min(MAX_MOTION_STEP_LENGTH, min(widths_len) / 5)
+        if motion_step is not None:
+            self.step_angle = self.step_length = float(motion_step)
+        self._frames = None
+
+    @property
+    def motion_step(self) -> float:
+        return self.step_angle
+
+    @motion_step.setter
+    def motion_step(self, value: float) -> None:
+        scale = value / self.step_angle
+        self.step_angle = value
+        self.step_length *= scale
+
+    # ---- single states ------------------------------------------------------------------------
+    def sigma(self, q) -> float:
+        return self.robot.sigma_min(np.asarray(q, dtype=float))
+
+    def reason(self, q) -> str | None:
+        """Why a configuration is invalid (None when valid)."""
+        for i, v in enumerate(q):
+            if v < self.lower[i] or v > self.upper[i]:
+                return f"joint {i + 1} = {v:.6g} is outside its limits [{self.lower[i]:.6g}, {self.upper[i]:.6g}]"
+        for j, ivs in self._intervals:
+            v = q[j]
+            for lo, hi in ivs:
+                if lo <= v <= hi:
+                    return f"joint {j + 1} = {v:.6g} is inside a singular window [{lo:.6g}, {hi:.6g}]"
+        for k, (g, eps) in enumerate(self._predicates):
+            if abs(g(q)) <= eps:
+                name = [w.name for w in self.windows.windows if not w.is_interval][k]
+                return f"inside the singular window '{name}'"
+        if self.sigma_floor is not None:
+            s = self.sigma(q)
+            if s < self.sigma_floor:
+                return f"σ_min = {s:.3g} is below the floor {self.sigma_floor:.3g}"
+        if self.boxes and self._in_box(np.asarray(q, dtype=float)[None]).any():
+            return "inside a keep-out box"
+        return None
+
+    def state_valid(self, q) -> bool:
+        for i in range(self.n):
+            if q[i] < self.lower[i] or q[i] > self.upper[i]:
+                return False
+        for j, ivs in self._intervals:
+            v = q[j]
+            for lo, hi in ivs:
+                if lo <= v <= hi:
+                    return False
+        for g, eps in self._predicates:
+            if abs(g(q)) <= eps:
+                return False
+        if self.sigma_floor is not None and self.sigma(q) < self.sigma_floor:
+            return False
+        if self.boxes and self._in_box(np.asarray(q, dtype=float)[None]).any():
+            return False
+        return True
+
+    def require_valid(self, q, what: str) -> None:
+        """Raise :class:`PlanningError` naming why ``q`` (the start or goal) is invalid."""
+        why = self.reason([float(x) for x in q])
+        if why is not None:
+            raise PlanningError(f"{what} configuration is invalid: {why}")
+
+    # ---- motions ------------------------------------------------------------------------------
+    def motion_states(self, a, b) -> np.ndarray:
+        a = np.asarray(a, dtype=float)
+        b = np.asarray(b, dtype=float)
+        d = np.abs(b - a) / np.where(self.revolute, self.step_angle, self.step_length)
+        k = max(int(math.ceil(d.max())), 1)
+        t = np.linspace(0.0, 1.0, k + 1)[:, None]
+        return a + t * (b - a)
+
+    def batch_valid(self, Q: np.ndarray) -> np.ndarray:
+        """Validity of many configurations (K, n) at once."""
+        ok = np.all((Q >= self.chain.lower) & (Q <= self.chain.upper), axis=1)
+        if self.windows is not None and self.windows.windows:
+            ok &= ~self.windows.contains(Q)
+        if self.sigma_floor is not None and ok.any():
+            ok[ok] = self.robot.sigma_min(Q[ok]) >= self.sigma_floor
+        if self.boxes and ok.any():
+            ok[ok] = ~self._in_box(Q[ok])
+        return ok
+
+    def motion_valid(self, a, b) -> bool:
+        """Whether the straight motion a → b is valid.
+
+        The end states are checked as single states (cheap; most rejected motions end inside a
+        window).  Joint limits then hold along the whole motion (the limit box is convex) and an
+        interval window [lo, hi] on joint j is entered exactly when the range of q_j along the motion
+        overlaps it (q_j is linear in the motion parameter), so neither needs sampling.  Only the
+        multi-joint windows, the σ_min floor and the keep-out boxes are checked at the states of
+        :meth:`motion_states` (a step finer than the narrowest window), as one numpy batch.
+        """
+        a = [float(x) for x in a]
+        b = [float(x) for x in b]
+        if not (self.state_valid(b) and self.state_valid(a)):
+            return False
+        for j, ivs in self._intervals:
+            u, v = (a[j], b[j]) if a[j] <= b[j] else (b[j], a[j])
+            for lo, hi in ivs:
+                if lo <= v and u <= hi:
+                    return False
+        if not (self._predicate_windows or self.sigma_floor is not None or self.boxes):
+            return True
+        Q = self.motion_states(a, b)[1:-1]          # the end states are already checked
+        if len(Q) == 0:
+            return True
+        for w in self._predicate_windows:
+            if w.contains(Q).any():
+                return False
+        if self.sigma_floor is not None and (self.robot.sigma_min(Q) < self.sigma_floor).any():
+            return False
+        if self.boxes and self._in_box(Q).any():
+            return False
+        return True
+
+    # ---- keep-out boxes -------------------------------------------------------------------------
+    def _in_box(self, Q: np.ndarray) -> np.ndarray:
+        T = self.robot.fk(Q)
+        pts = [T[:, :3, 3]]
+        if any(b.all_frames for b in self.boxes):
+            if self._frames is None:
+                self._frames = self.robot.symbolic.frames_function
+            P = self.chain.parameter_values
+            F = np.array([np.array(self._frames(q, P)[0]) for q in Q])      # (K, 4, 4(n+1))
+            origins = F[:, :3, 3::4]                                         # (K, 3, n+1)
+            pts_all = origins.transpose(0, 2, 1)
+        hit = np.zeros(len(Q), bool)
+        for box in self.boxes:
+            hit |= box.contains(pts[0])
+            if box.all_frames:
+                hit |= box.contains(pts_all.reshape(-1, 3)).reshape(len(Q), -1).any(axis=1)
+        return hit

@@ -1,0 +1,116 @@
+"""The geometric joint path that :func:`planning.timing.time_parameterize` times: waypoints thinned
+(:func:`simplify_path`) and joined by quadratic Bézier pieces (:func:`blend_path`, :class:`BlendedPath`),
+parameterised by joint-space arc length s.
+
+Corners.  A piecewise-linear joint path has corners where q′ jumps; passing one at non-zero speed
+would need an infinite acceleration, so without blending the path must stop there.  By default every
+corner is cut by a quadratic Bézier blend: the curve leaves the first segment at distance r before
+the waypoint and joins the next segment at distance r after it, with the waypoint as control point
+(r = min(``blend``, half of either adjacent segment)).  Parameterised over a length 2r, the path is
+C¹ in s (q′ continuous, unit length on the lines) and q″ is piecewise constant, so the trajectory
+does not stop at corners; the blend passes the waypoint at joint-space distance ≤ r/2 (reported as
+``max_deviation``; a collinear waypoint is passed exactly).  With ``blend=0`` the path is followed
+exactly and the trajectory stops at every corner (b = 0 there).  Consecutive duplicate waypoints are
+dropped, and a dense path (the samples of a smooth curve, e.g. a path follower's output) is first
+thinned by Ramer–Douglas–Peucker with tolerance ``simplify`` (default 1e-4 rad): the tiny corners
+between consecutive samples are artefacts of the sampling, and thinning keeps the QP small and well
+conditioned.
+
+SI units throughout: rad for revolute joints, m for prismatic ones.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from planning.timing.trajectory import BlendedPath, TimingError
+
+__all__ = ["blend_path", "simplify_path"]
+
+
+
+def simplify_path(path, tolerance: float) -> np.ndarray:
+    """Ramer–Douglas–Peucker in joint space: the fewest waypoints (a subset, ends kept) such that every
+    dropped waypoint lies within ``tolerance`` (rad or m, Euclidean) of the simplified polyline."""
+    W = np.asarray(path, dtype=float)
+    if len(W) <= 2 or tolerance <= 0:
+        return W.copy()
+    keep = np.zeros(len(W), bool)
+    keep[0] = keep[-1] = True
+    stack = [(0, len(W) - 1)]
+    while stack:
+        i, j = stack.pop()
+        if j <= i + 1:
+            continue
+        a, b = W[i], W[j]
+        d = b - a
+        L2 = float(d @ d)
+        X = W[i + 1:j] - a
+        if L2 > 0:
+            u = np.clip(X @ d / L2, 0.0, 1.0)
+            dist = np.linalg.norm(X - u[:, None] * d, axis=1)
+        else:
+            dist = np.linalg.norm(X, axis=1)
+        k = int(np.argmax(dist))
+        if dist[k] > tolerance:
+            m = i + 1 + k
+            keep[m] = True
+            stack += [(i, m), (m, j)]
+    return W[keep]
+
+
+def blend_path(path, blend: float = 0.05, simplify: float = 1e-4) -> BlendedPath:
+    """Pieces of a piecewise-linear joint path (M, n) with every corner cut by a quadratic Bézier of
+    half-length r = min(``blend``, half of each adjacent segment); ``blend=0`` keeps the corners (the
+    trajectory will stop at them).  The waypoints are first thinned by :func:`simplify_path` with
+    tolerance ``simplify`` (0: keep them all) — on a dense path, the corners between consecutive
+    samples of a smooth curve are artefacts of the sampling.  See the module docstring."""
+    W = np.asarray(path, dtype=float)
+    if W.ndim != 2 or len(W) < 1 or W.shape[1] < 1:
+        raise TimingError(f"path has shape {W.shape}; expected (M, n) joint waypoints with M ≥ 1")
+    if not np.all(np.isfinite(W)):
+        raise TimingError("path holds NaN or infinite values")
+    if not (math.isfinite(blend) and blend >= 0):
+        raise TimingError(f"blend = {blend!r} must be a finite number ≥ 0 (rad or m, joint-space distance)")
+    if not (math.isfinite(simplify) and simplify >= 0):
+        raise TimingError(f"simplify = {simplify!r} must be a finite number ≥ 0 (rad or m, joint-space distance)")
+    keep = np.r_[True, np.linalg.norm(np.diff(W, axis=0), axis=1) > 1e-12]
+    W = simplify_path(W[keep], simplify)
+    n = W.shape[1]
+    if len(W) == 1:
+        return BlendedPath(np.zeros((0, 3, n)), np.zeros(0), np.zeros(0), np.zeros(0), 0.0, W)
+    D = np.diff(W, axis=0)
+    L = np.linalg.norm(D, axis=1)
+    U = D / L[:, None]
+    M = len(W)
+    total = float(L.sum())
+    r = np.zeros(M)            # cut at each interior waypoint
+    for k in range(1, M - 1):
+        r[k] = min(blend, 0.5 * L[k - 1], 0.5 * L[k])
+    pieces, s0s, ells, stops = [], [], [], []
+    s = 0.0
+    dev = 0.0
+    for k in range(M - 1):
+        a = W[k] + r[k] * U[k]
+        b = W[k + 1] - r[k + 1] * U[k]
+        seg = float(np.linalg.norm(b - a))
+        if seg > 1e-9 * total:
+            pieces.append((a, 0.5 * (a + b), b))
+            s0s.append(s)
+            ells.append(seg)
+            s += seg
+        if k + 1 < M - 1:
+            if r[k + 1] > 0:
+                P0, P1, P2 = W[k + 1] - r[k + 1] * U[k], W[k + 1], W[k + 1] + r[k + 1] * U[k + 1]
+                pieces.append((P0, P1, P2))
+                s0s.append(s)
+                ells.append(2 * r[k + 1])
+                s += 2 * r[k + 1]
+                dev = max(dev, float(np.linalg.norm(0.25 * (P0 - 2 * P1 + P2))))   # |B(½) − P1|
+            elif np.linalg.norm(U[k + 1] - U[k]) > 1e-9:
+                stops.append(s)
+    # every original waypoint lies within ``simplify`` of the simplified polyline, and the blends stay
+    # within ``dev`` of it near the corners: their sum bounds the deviation
+    return BlendedPath(np.array(pieces), np.array(s0s), np.array(ells), np.array(stops),
+                       dev + (simplify if len(W) < len(keep) else 0.0), W)

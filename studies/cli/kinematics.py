@@ -1,0 +1,156 @@
+"""``rmt robots``, ``show``, ``fk``, ``jacobian``, ``ik``: a robot's description and its kinematics at
+one configuration, in the robot file's units."""
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+import kin
+from kin.transforms import make_transform, rpy_to_matrix
+
+from studies.cli.common import EXIT_FAIL, EXIT_OK, dump, joint_values, numbers
+from studies.study import kinematics as ks
+from studies.units import joint_units, pose_to_file, unit_names
+
+
+def _warn_limits(robot: kin.Robot, q: np.ndarray) -> None:
+    chain = robot.chain
+    for i, v, (lo, hi) in chain.limit_violations(q):
+        s = chain.variable_scale[i - 1]
+        u = joint_units(chain)[i - 1]
+        print(f"rmt: warning: joint {i} = {v / s:.6g} {u} is outside its limits [{lo / s:.6g}, {hi / s:.6g}] {u}",
+              file=sys.stderr)
+
+
+def _fmt_matrix(M: np.ndarray, width: int = 11, prec: int = 6) -> str:
+    # + 0.0 turns -0.0 into 0.0
+    return "\n".join("  " + " ".join(f"{x + 0.0:{width}.{prec}g}" for x in row) for row in np.asarray(M))
+
+
+def cmd_robots(args, load_robot) -> int:
+    rows = []
+    for name in kin.bundled_robots():
+        c = kin.load_chain(name)
+        rows.append({"name": name, "title": c.title, "joints": c.n,
+                     "types": "".join("R" if j.is_revolute else "P" for j in c.joints),
+                     "convention": c.convention, "units": unit_names(c), "source": c.source})
+    if args.json:
+        print(dump({"robots": rows}))
+        return EXIT_OK
+    w = max(len(r["name"]) for r in rows)
+    for r in rows:
+        print(f"{r['name']:<{w}}  {r['types']:<7} {r['units']['length']:>2}/"
+              f"{r['units']['angle']:<3}  {r['title']}")
+    return EXIT_OK
+
+
+def cmd_show(args, load_robot) -> int:
+    robot = load_robot(args.robot)
+    c = robot.chain
+    dh = ks.dh_rows(c)
+    info = {"name": c.name, "title": c.title, "source": c.source, "convention": c.convention,
+            "units": unit_names(c), "joints": dh,
+            "base": pose_to_file(c, c.base.matrix).tolist(), "tool": pose_to_file(c, c.tool.matrix).tolist(),
+            "parameters": {k: {"value": p.value / (c.length_scale if p.kind == "length" else c.angle_scale),
+                               "bounds": [b / (c.length_scale if p.kind == "length" else c.angle_scale)
+                                          for b in p.bounds], "kind": p.kind}
+                           for k, p in c.parameters.items()},
+            "task_rows": [["x", "y", "z", "rx", "ry", "rz"][r] for r in robot.task_rows]}
+    if args.json:
+        print(dump(info))
+        return EXIT_OK
+    print(f"{c.name}: {c.title}")
+    if c.source:
+        print(f"source: {c.source}")
+    print(f"{c.convention} DH, lengths in {c.length_unit}, angles in {c.angle_unit}; "
+          f"task rows: {' '.join(info['task_rows'])}")
+    print(f"{'i':>2} {'type':<9} {'a':>10} {'alpha':>10} {'d':>10} {'theta':>10}   limits")
+    for r in dh:
+        cells = [f"{r[f]:>10.6g}" if not isinstance(r[f], str) else f"{r[f]:>10}" for f in ("a", "alpha", "d", "theta")]
+        print(f"{r['joint']:>2} {r['type']:<9} {' '.join(cells)}   [{r['limits'][0]:.6g}, {r['limits'][1]:.6g}]")
+    for label, pl in (("base", c.base), ("tool", c.tool)):
+        if not np.array_equal(pl.matrix, np.eye(4)):
+            print(f"{label}:\n{_fmt_matrix(pose_to_file(c, pl.matrix))}")
+    for k, p in info["parameters"].items():
+        print(f"parameter {k} = {p['value']:.6g} in [{p['bounds'][0]:.6g}, {p['bounds'][1]:.6g}] ({p['kind']})")
+    return EXIT_OK
+
+
+def cmd_fk(args, load_robot) -> int:
+    robot = load_robot(args.robot)
+    q = joint_values(robot, args.q)
+    _warn_limits(robot, q)
+    T = pose_to_file(robot.chain, robot.fk(q))
+    out = {"T": T.tolist(), "position": T[:3, 3].tolist(), "units": unit_names(robot.chain),
+           "within_limits": bool(robot.within_limits(q))}
+    if args.json:
+        print(dump(out))
+    else:
+        print(f"T ({robot.chain.length_unit}):\n{_fmt_matrix(T)}")
+        print("position: " + " ".join(f"{x:.6g}" for x in T[:3, 3]))
+    return EXIT_OK
+
+
+def cmd_jacobian(args, load_robot) -> int:
+    robot = load_robot(args.robot)
+    q = joint_values(robot, args.q)
+    _warn_limits(robot, q)
+    r = ks.evaluate_configuration(robot, robot.chain.from_si(q))
+    out = {"J": r["J"], "manipulability": r["manipulability"], "sigma_min": r["sigma_min"],
+           "condition": r["condition"], "det": r["det"], "units": unit_names(robot.chain),
+           "task_rows": [["x", "y", "z", "rx", "ry", "rz"][i] for i in robot.task_rows]}
+    if args.json:
+        print(dump(out))
+        return EXIT_OK
+    c = robot.chain
+    print(f"J (rows vx vy vz [{c.length_unit}/s] wx wy wz [{c.angle_unit}/s] per joint rate):")
+    print(_fmt_matrix(np.array(r["J"])))
+    cond = "inf (singular)" if r["condition"] is None else f"{r['condition']:.6g}"
+    det = "n/a (task Jacobian not square)" if r["det"] is None else f"{r['det']:.6g}"
+    print(f"manipulability {r['manipulability']:.6g}  sigma_min {r['sigma_min']:.6g}  condition {cond}  det {det}")
+    return EXIT_OK
+
+
+def cmd_ik(args, load_robot) -> int:
+    robot = load_robot(args.robot)
+    c = robot.chain
+    xyz = np.array(numbers(args.xyz, "--xyz")) * c.length_scale
+    if args.rpy is not None:
+        rpy = np.array(numbers(args.rpy, "--rpy")) * c.angle_scale
+        target = make_transform(rpy_to_matrix(rpy), xyz)
+        mode = "pose"
+    else:
+        target, mode = xyz, "position"
+    q0 = None if args.q0 is None else joint_values(robot, args.q0, "--q0")
+    res = robot.ik(target, seed=args.seed, q0=q0, mode=mode)
+    out = {"success": bool(res.success), "q": c.from_si(res.q).tolist(),
+           "position_error": res.position_error / c.length_scale,
+           "orientation_error": res.orientation_error / c.angle_scale,
+           "mode": mode, "units": unit_names(c)}
+    if args.json:
+        print(dump(out))
+    else:
+        status = "solution" if res.success else "NO solution (closest configuration found)"
+        print(f"{status}: q = " + " ".join(f"{x:.6g}" for x in out["q"]))
+        print(f"position error {out['position_error']:.3g} {c.length_unit}, "
+              f"orientation error {out['orientation_error']:.3g} {c.angle_unit}")
+    return EXIT_OK if res.success else EXIT_FAIL
+
+
+def add_commands(add) -> None:
+    add("robots", cmd_robots, "list the bundled robots")
+    sp = add("show", cmd_show, "show a robot's DH table, limits, base/tool and parameters")
+    sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
+    for name, func, text in (("fk", cmd_fk, "forward kinematics: the tool pose"),
+                             ("jacobian", cmd_jacobian, "geometric Jacobian and dexterity measures")):
+        sp = add(name, func, text)
+        sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
+        sp.add_argument("q", metavar="Q", nargs="+", help="joint values in the robot file's units")
+    sp = add("ik", cmd_ik, "inverse kinematics of a tool position (and orientation); exit 1 if unsolved")
+    sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
+    sp.add_argument("--xyz", nargs=3, required=True, metavar=("X", "Y", "Z"), help="position, file length unit")
+    sp.add_argument("--rpy", nargs=3, metavar=("R", "P", "Y"),
+                    help="fixed-axis roll-pitch-yaw, file angle unit (omit for position-only IK)")
+    sp.add_argument("--q0", nargs="+", metavar="Q", help="initial guess, file units")
+    sp.add_argument("--seed", type=int, default=0, help="seed of the random starts (default 0)")

@@ -1,0 +1,73 @@
+"""The ``rmt`` command line.
+
+Every command takes ROBOT as a bundled name (``rmt robots``) or a path to a robot file, reads and
+prints values in the robot file's units, and with ``--json`` prints one JSON object.  Bad input
+exits with code 2 and one line on stderr; ``rmt ik`` exits 1 when it finds no solution.
+"""
+from __future__ import annotations
+
+import argparse
+import re
+import sys
+from typing import Sequence
+
+import kin
+
+from studies.cli import follow, kinematics, plan, singular, study, toolpath
+from studies.cli.common import EXIT_OK, EXIT_USAGE
+
+#: the command groups, in the order ``rmt --help`` lists their commands
+GROUPS = (kinematics, singular, plan, toolpath, follow, study)
+
+
+class UsageError(Exception):
+    """Bad command-line input (exit code 2)."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        # argparse takes "-1e-5" for an option; joint values in exponent form are numbers too
+        self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+
+    def error(self, message):  # one line, exit 2 (argparse prints usage + message by default)
+        raise UsageError(f"{self.prog}: {message}")
+
+
+# ---- parser ------------------------------------------------------------------------------------
+def build_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="rmt", description="rmtkit: kinematics, singularities and motion planning of "
+                                        "reconfigurable machine tools and robot arms")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub.required = True
+
+    def add(name, func, help_):
+        sp = sub.add_parser(name, help=help_, description=help_)
+        sp.set_defaults(func=func)
+        sp.add_argument("--json", action="store_true", help="print one JSON object")
+        return sp
+
+    for group in GROUPS:
+        group.add_commands(lambda name, func, text: add(name, lambda args, f=func: f(args, kin.load_robot), text))
+    return p
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+        return args.func(args)
+    except UsageError as e:
+        print(f"rmt: error: {e}", file=sys.stderr)
+    except kin.RmtError as e:
+        print(f"rmt: error: {e}", file=sys.stderr)
+    except BrokenPipeError:
+        return EXIT_OK
+    except KeyboardInterrupt:
+        print("rmt: interrupted", file=sys.stderr)
+        return 130
+    return EXIT_USAGE
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,158 @@
+"""``rmt plan`` and ``rmt check-path``: OMPL joint paths around singular windows, and dense checks
+of a joint path given as CSV."""
+from __future__ import annotations
+
+import csv
+import io
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+import kin
+from planning.ompl.planner import plan
+from planning.validate import DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, check_path
+
+from studies.cli.common import dump, joint_values, windows_from_args
+from studies.units import joint_units
+
+
+class PathFileError(kin.RmtError):
+    """A joint-path CSV file is missing or invalid."""
+
+
+
+def _num(x):
+    return None if x is None or not math.isfinite(x) else float(x)
+
+
+
+
+
+def write_path_csv(robot, path_si: np.ndarray, out: str | Path) -> Path:
+    """A joint path as CSV in the robot file's units (header q1..qn), written atomically."""
+    out = Path(out)
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow([f"q{i + 1}" for i in range(robot.n)])
+    for row in robot.chain.from_si(path_si):
+        w.writerow([repr(float(x)) for x in row])
+    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
+    tmp.write_text(buf.getvalue(), encoding="utf-8")
+    tmp.replace(out)
+    return out
+
+
+def read_path_csv(robot, path: str | Path) -> np.ndarray:
+    """A joint path CSV (one configuration per row, robot file units; optional header) → (M, n) SI."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise PathFileError(f"{path}: no such joint-path file") from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise PathFileError(f"{path}: cannot read ({e})") from None
+    rows = []
+    for lineno, row in enumerate(csv.reader(io.StringIO(text)), 1):
+        if not row or all(not c.strip() for c in row) or row[0].lstrip().startswith("#"):
+            continue
+        try:
+            vals = [float(c) for c in row]
+        except ValueError:
+            if not rows and lineno == 1:
+                continue           # a header
+            raise PathFileError(f"{path}: line {lineno}: non-numeric value in {row!r}") from None
+        if len(vals) != robot.n:
+            raise PathFileError(f"{path}: line {lineno}: {len(vals)} values; {robot.name} has {robot.n} joints")
+        if not all(math.isfinite(v) for v in vals):
+            raise PathFileError(f"{path}: line {lineno}: NaN or infinite value")
+        rows.append(vals)
+    if not rows:
+        raise PathFileError(f"{path}: no configurations (one row of {robot.n} joint values per line)")
+    return robot.chain.to_si(np.array(rows))
+
+
+def cmd_plan(args, load_robot) -> int:
+    robot = load_robot(args.robot)
+    start = joint_values(robot, args.start, "--start")
+    goal = joint_values(robot, args.goal, "--goal")
+    ws = windows_from_args(robot, args.margin, args.sigma_min, args.seed)
+    res = plan(robot, start, goal, ws, planner=args.planner, time_limit=args.time_limit, seed=args.seed,
+               objective=args.objective)
+    c = robot.chain
+    path_file = robot.chain.from_si(res.path) if res.success else np.zeros((0, robot.n))
+    if args.out and res.success:
+        write_path_csv(robot, res.path, args.out)
+    out = {"success": res.success, "path": path_file.tolist(), "planner": res.planner, "time_s": res.time_s,
+           "length": _num(res.length), "min_sigma": _num(res.min_sigma),
+           "windows": [] if ws is None else [w.name for w in ws.windows],
+           "straight_line_valid": res.straight_line_valid, "status": res.status,
+           "units": {"path": "robot file units", "length": "joint-space length, SI (rad/m)", "min_sigma": "SI"}}
+    if args.json:
+        print(dump(out))
+    else:
+        if res.success:
+            print(f"path found by {res.planner} in {res.time_s:.3f} s: {len(res.path)} waypoints, joint-space "
+                  f"length {res.length:.4g} (straight line {np.linalg.norm(goal - start):.4g}"
+                  f"{', blocked' if not res.straight_line_valid else ''}), min σ_min {res.min_sigma:.3g}")
+            print("  " + " ".join(f"{f'q{i + 1} [{u}]':>10}" for i, u in enumerate(joint_units(c))))
+            for row in path_file:
+                print("  " + " ".join(f"{x:10.5g}" for x in row))
+            if args.out:
+                print(f"wrote {args.out}")
+        else:
+            print(f"no path found by {res.planner} within {args.time_limit:g} s ({res.status})")
+    return 0 if res.success else 1
+
+
+def cmd_check_path(args, load_robot) -> int:
+    robot = load_robot(args.robot)
+    P = read_path_csv(robot, args.path)
+    ws = windows_from_args(robot, args.margin, args.sigma_min, args.seed)
+    c = robot.chain
+    step_angle = DEFAULT_STEP_ANGLE if args.step is None else args.step * c.angle_scale
+    step_length = DEFAULT_STEP_LENGTH if args.step is None else args.step * c.length_scale
+    chk = check_path(robot, P, ws, sigma_min=args.sigma_floor, step_angle=step_angle, step_length=step_length)
+    fv = chk.first_violation
+    out = {"valid": chk.valid,
+           "first_violation": None if fv is None else {"index": fv.index, "kind": fv.kind, "detail": fv.detail},
+           "min_sigma": _num(chk.min_sigma), "min_sigma_index": chk.min_sigma_index,
+           "checked_states": chk.checked_states, "rows": int(len(P))}
+    if args.json:
+        print(dump(out))
+    elif chk.valid:
+        print(f"valid: {len(P)} rows, {chk.checked_states} states checked; min σ_min {chk.min_sigma:.3g} "
+              f"(row {chk.min_sigma_index})")
+    else:
+        print(f"INVALID at row {fv.index}: {fv.kind} — {fv.detail}")
+        print(f"{len(P)} rows, {chk.checked_states} states checked; min σ_min {chk.min_sigma:.3g}")
+    return 0 if chk.valid else 1
+
+
+def _window_args(sp) -> None:
+    g = sp.add_mutually_exclusive_group()
+    g.add_argument("--margin", type=float, metavar="X",
+                   help="windows of this half-width, file units (angle for revolute factors, length otherwise)")
+    g.add_argument("--sigma-min", type=float, metavar="S", help="windows from a σ_min threshold (SI)")
+    sp.add_argument("--seed", type=int, default=0, help="seed (default 0)")
+
+
+def add_commands(add) -> None:
+    sp = add("plan", cmd_plan, "plan a joint path with OMPL that avoids the singular windows; exit 1 if none found")
+    sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
+    sp.add_argument("--start", nargs="+", required=True, metavar="Q", help="start configuration, file units")
+    sp.add_argument("--goal", nargs="+", required=True, metavar="Q", help="goal configuration, file units")
+    _window_args(sp)
+    sp.add_argument("--planner", default="RRTConnect", help="OMPL planner (RRTConnect, RRT*, PRM*, BIT*, ...)")
+    sp.add_argument("--time-limit", type=float, default=2.0, metavar="S", help="planning time limit, s (default 2)")
+    sp.add_argument("--objective", default="none", choices=("none", "length", "singularity"),
+                    help="optimisation objective for optimising planners (default none)")
+    sp.add_argument("--out", metavar="PATH.csv", help="write the path as CSV (robot file units)")
+    sp = add("check-path", cmd_check_path, "check a joint path (CSV) densely; exit 0 valid, 1 invalid")
+    sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
+    sp.add_argument("path", metavar="PATH.csv", help="one configuration per row, robot file units")
+    _window_args(sp)
+    sp.add_argument("--sigma-floor", type=float, metavar="S", help="fail where σ_min (SI) drops below S")
+    sp.add_argument("--step", type=float, metavar="D",
+                    help="largest joint change between checked states, file units (default 0.1° / 0.1 mm)")

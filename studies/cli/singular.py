@@ -1,0 +1,169 @@
+"""``rmt singularities``, ``rmt windows`` and ``rmt workspace``: the singular set, its windows and
+the (functional) workspace of a robot."""
+from __future__ import annotations
+
+import kin
+from kin.singular import analyse_singularities
+from planning.windows import WindowSet, build_windows
+
+from studies.cli.common import dump, factor_margins
+from studies.units import unit_names
+
+
+def _value_to_file(chain: kin.Chain, joint: int, v: float) -> float:
+    """A joint value (SI) in the file's unit of that joint (1-based)."""
+    return v / chain.variable_scale[joint - 1]
+
+
+def singularities_json(robot: kin.Robot, analysis) -> dict:
+    chain = robot.chain
+    factors = []
+    for f in analysis.factors:
+        d = f.to_dict()
+        sol = dict(d["solutions"])
+        if sol.get("type") == "values":
+            j = sol["joint"]
+            sol["values_file_units"] = [_value_to_file(chain, j, v) for v in sol["values"]]
+        elif sol.get("type") == "manifold":
+            sol["ranges_file_units"] = {k: None if r is None else [_value_to_file(chain, int(k[1:]), x) for x in r]
+                                        for k, r in sol["ranges"].items()}
+        factors.append({"expr": d["expr"], "kind": d["kind"], "joints": d["joints"], "meaning": d["meaning"],
+                        "solutions": sol, "symbolic": d["symbolic"], "multiplicity": d["multiplicity"]})
+    return {"robot": chain.name, "factors": factors, "method": analysis.method, "rows": list(analysis.rows),
+            "units": {"expr": "q in rad (revolute) or m (prismatic), lengths in m",
+                      "values": "rad or m; *_file_units in the robot file's units", **unit_names(chain)},
+            "lengths": analysis.lengths, "seconds": analysis.seconds}
+
+
+def cmd_singularities(args, load_robot) -> int:
+    robot = load_robot(args.robot)
+    analysis = analyse_singularities(robot, seed=args.seed)
+    out = singularities_json(robot, analysis)
+    if args.json:
+        print(dump(out))
+        return 0
+    c = robot.chain
+    print(f"{c.name}: {len(out['factors'])} singular factor{'s' if len(out['factors']) != 1 else ''} "
+          f"({analysis.method}; {analysis.seconds:.2f} s)")
+    for i, f in enumerate(out["factors"], 1):
+        joints = ", ".join(f"q{j}" for j in f["joints"])
+        mult = f" (multiplicity {f['multiplicity']})" if f["multiplicity"] > 1 else ""
+        print(f"\n{i}. [{f['kind']}] {f['expr']} = 0{mult}")
+        if f["symbolic"] != f["expr"]:
+            print(f"   symbolic: {f['symbolic']}")
+        print(f"   joints: {joints} — {f['meaning']}")
+        sol = f["solutions"]
+        if sol["type"] == "values":
+            j = sol["joint"]
+            unit = c.angle_unit if c.joints[j - 1].is_revolute else c.length_unit
+            vals = ", ".join(f"{v:.6g}" for v in sol["values_file_units"]) or "none inside the limits"
+            print(f"   q{j} ∈ {{{vals}}} {unit}" + (f"   (exact, rad/m: {', '.join(sol['exact'])})" if sol["exact"] else ""))
+        else:
+            rng = ", ".join(f"{k} ∈ [{r[0]:.4g}, {r[1]:.4g}]" for k, r in sol["ranges_file_units"].items() if r)
+            print(f"   a manifold: {sol['count']} sampled configurations inside the limits; {rng}")
+    return 0
+
+
+def _windows_text(robot: kin.Robot, ws: WindowSet) -> str:
+    c = robot.chain
+    lines = [f"{c.name}: {len(ws.windows)} window{'s' if len(ws.windows) != 1 else ''}"]
+    for w in ws.windows:
+        if w.is_interval:
+            j = w.joints[0]
+            unit = c.angle_unit if c.joints[j - 1].is_revolute else c.length_unit
+            ivs = " ∪ ".join(f"[{_value_to_file(c, j, lo):.6g}, {_value_to_file(c, j, hi):.6g}]" for lo, hi in w.intervals)
+            lines.append(f"  {w.name}\n      q{j} ∈ {ivs or '∅'} {unit}   (half-width {w.width:.6g} SI, {w.method})")
+        else:
+            lines.append(f"  {w.name}\n      |g(q)| ≤ {w.epsilon:.6g}   (half-width ≥ {w.width:.6g} SI, {w.method})")
+    return "\n".join(lines)
+
+
+def cmd_windows(args, load_robot) -> int:
+    robot = load_robot(args.robot)
+    c = robot.chain
+    analysis = analyse_singularities(robot, seed=args.seed)
+    reports = None
+    if args.margin is not None:
+        ws = build_windows(robot, margin=factor_margins(c, analysis, args.margin), analysis=analysis, seed=args.seed)
+    elif args.sigma_min is not None:
+        ws = build_windows(robot, sigma_min=args.sigma_min, analysis=analysis, seed=args.seed)
+    else:
+        from design.learned.windows import jsonable_report, learned_windows
+        ws, reports = learned_windows(robot, analysis=analysis, seed=args.seed)
+        reports = [jsonable_report(r) for r in reports]
+    if args.out:
+        ws.save(args.out)
+    out = ws.to_dict()
+    if reports is not None:
+        out["learned"] = reports
+    if args.json:
+        print(dump(out))
+        return 0
+    print(_windows_text(robot, ws))
+    for r in reports or []:
+        t = r.get("thesis")
+        if t:
+            print(f"  the thesis published {t['joint']} ∈ [{t['interval'][0]:g}, {t['interval'][1]:g}] rad "
+                  f"(half-width {t['width']:g}); learned here: half-width {t['ours_width']:.4g} rad "
+                  f"({t['ours_over_thesis']:.1f}× wider)")
+    if args.out:
+        print(f"wrote {args.out}")
+    return 0
+
+
+
+def cmd_workspace(args, load_robot) -> int:
+    from design.workspace import compute_workspace
+    robot = load_robot(args.robot)
+    ws = compute_workspace(robot, n_samples=args.samples, method=args.method, seed=args.seed,
+                           threshold=args.sigma_min)
+    if args.plot:
+        from studies.plots import plot_workspace
+        plot_workspace(ws, args.plot, title=f"{robot.chain.title or robot.name}: functional workspace")
+    d = ws.to_dict()
+    if args.json:
+        print(dump(d))
+        return 0
+    c = robot.chain
+    s = c.length_scale
+    u = c.length_unit
+    print(f"{c.name}: {d['counts']['samples']} samples ({d['sampling']['method']}, seed {args.seed}) "
+          f"in {d['elapsed_s']:.2f} s")
+    print(f"near-singular ({d['measure']['name']} < {d['measure']['threshold']:.4g}, {d['measure']['rule']}): "
+          f"{d['counts']['near_singular']} ({100 * d['counts']['near_singular_fraction']:.1f} %)")
+    if d["volume"] is not None and d["area"] is None:
+        print(f"volume ≈ {d['volume']:.4g} m³ (voxel {d['voxel']['size'] / s:.4g} {u}, {d['voxel']['occupied']} "
+              f"occupied); functional volume ≈ {d['functional_volume']:.4g} m³")
+    if d["area"] is not None:
+        print(f"planar workspace: area ≈ {d['area']:.4g} m² (pixel {d['voxel']['size'] / s:.4g} {u}); "
+              f"functional area ≈ {d['functional_area']:.4g} m²")
+    print(f"reach {d['reach'] / s:.6g} {u} from the base origin, {d['radial_reach'] / s:.6g} {u} from the base z axis")
+    if args.plot:
+        print(f"wrote {args.plot}")
+    return 0
+
+
+def add_commands(add) -> None:
+    """Register the commands with the CLI's ``add(name, func, help)`` helper."""
+    sp = add("singularities", cmd_singularities, "the singular set: factors of det J, named, with their solutions")
+    sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
+    sp.add_argument("--seed", type=int, default=0, help="seed of the zero-set samples (default 0)")
+    sp = add("windows", cmd_windows, "singular error windows around every factor of the singular set")
+    sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
+    g = sp.add_mutually_exclusive_group(required=True)
+    g.add_argument("--margin", type=float, metavar="X",
+                   help="half-width in file units (angle unit for factors with a revolute joint, length unit otherwise)")
+    g.add_argument("--sigma-min", type=float, metavar="S",
+                   help="dexterity threshold: σ_min of the Jacobian in SI units stays ≥ S outside the windows")
+    g.add_argument("--learned", action="store_true",
+                   help="the thesis's method: widths from a learned IK model's error at singular poses")
+    sp.add_argument("--out", metavar="FILE.json", help="save the windows (SI units) to a JSON file")
+    sp.add_argument("--seed", type=int, default=0, help="seed (default 0)")
+    sp = add("workspace", cmd_workspace, "sampled workspace: volume, reach, near-singular share, plot")
+    sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
+    sp.add_argument("--samples", type=int, default=100_000, help="number of joint-space samples (default 100000)")
+    sp.add_argument("--method", default="sobol", choices=("sobol", "random", "grid"), help="sampling (default sobol)")
+    sp.add_argument("--seed", type=int, default=0, help="seed (default 0)")
+    sp.add_argument("--sigma-min", type=float, metavar="S", help="near-singular threshold on σ_min (SI; default: "
+                                                                 "5 %% of the median)")
+    sp.add_argument("--plot", metavar="FILE.png", help="write top/front/side/isometric views")

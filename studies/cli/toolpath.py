@@ -1,0 +1,232 @@
+"""``rmt validate-toolpath``: follow a Cartesian tool path (CSV or TOML) with a continuous IK
+solution and say whether the robot can do it — reachability, joint limits, singular windows, σ_min,
+joint speeds at the feed rate, branch continuity.  Exit 0 when the path is valid, 1 when not, 2 on
+bad input."""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+import kin
+from planning.toolpath import ToolPathError, load_toolpath
+from planning.toolpath.check import KINDS, ToolPathReport, validate_toolpath
+from planning.windows import WindowSet
+
+from studies.cli.common import jsonable, numbers, windows_from_args
+from studies.units import joint_units, unit_names
+
+#: bundled example tool paths: ``rmt validate-toolpath ROBOT NAME`` finds ``NAME.toml`` or ``NAME.csv`` here
+TOOLPATH_DIR = Path(__file__).parent.parent / "toolpaths"
+
+
+def bundled_toolpaths() -> list[str]:
+    """Names of the bundled example tool paths."""
+    return sorted(p.stem for p in TOOLPATH_DIR.glob("*") if p.suffix in (".toml", ".csv"))
+
+
+def toolpath_file(arg: str) -> Path:
+    """A tool-path argument → an existing file: a path, or the name of a bundled example."""
+    p = Path(arg)
+    if p.is_file():
+        return p
+    if p.suffix or "/" in arg:
+        raise ToolPathError("no such tool-path file", arg)
+    for ext in (".toml", ".csv"):
+        if (TOOLPATH_DIR / f"{arg}{ext}").is_file():
+            return TOOLPATH_DIR / f"{arg}{ext}"
+    raise ToolPathError(f"no such tool-path file or bundled tool path; bundled: {', '.join(bundled_toolpaths())} "
+                        "(or give a path to a .csv or .toml file)", arg)
+
+
+
+def _positive(x: float | None, what: str) -> float | None:
+    if x is not None and not (math.isfinite(x) and x > 0):
+        raise kin.RmtError(f"{what} {x} must be a positive number")
+    return x
+
+
+def _windows(robot: kin.Robot, args) -> WindowSet | None:
+    """Windows from --margin (file units), --sigma-min (SI threshold) or --windows FILE.json; or None."""
+    if args.windows:
+        ws = WindowSet.load(args.windows)
+        if ws.n != robot.n:
+            raise kin.RmtError(f"{args.windows}: windows for a {ws.n}-joint robot ({ws.robot}); {robot.name} has "
+                               f"{robot.n} joints")
+        return ws
+    if args.sigma_min is not None:
+        _positive(args.sigma_min, "--sigma-min")
+    return windows_from_args(robot, args.margin, args.sigma_min, args.seed)
+
+
+def _per_joint(robot: kin.Robot, values, what: str) -> np.ndarray | None:
+    """One value for every joint, or one per joint, in file units → SI (n,)."""
+    if values is None:
+        return None
+    v = numbers(values, what)
+    if len(v) not in (1, robot.n):
+        raise kin.RmtError(f"{what}: give one value or {robot.n} (one per joint); got {len(v)}")
+    arr = np.broadcast_to(np.array(v), (robot.n,))
+    if np.any(arr <= 0):
+        raise kin.RmtError(f"{what}: values must be > 0")
+    return arr * robot.chain.variable_scale
+
+
+def _num(x):
+    if x is None:
+        return None
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def report_json(report: ToolPathReport, robot: kin.Robot, waypoints: bool = False) -> dict:
+    """The CLI's JSON object: SI summary converted to the robot file's units (σ_min stays SI)."""
+    c = robot.chain
+    L, A, var = c.length_scale, c.angle_scale, c.variable_scale
+    d = report.summary()
+    fp = report.first_problem
+    reach = report.reachable
+    margins = np.minimum(report.q - c.lower, c.upper - report.q) / var     # per joint, file units
+    out = {
+        "valid": report.ok,
+        "first_problem": None if fp is None else {"index": fp.index, "kind": fp.kind, "detail": fp.detail,
+                                                  "s": fp.s / L, "t": fp.t, "origin": fp.origin},
+        "verdict": report.verdict(),
+        "waypoints": report.n_waypoints, "reachable": int(reach.sum()),
+        "min_sigma": d["min_sigma"], "min_sigma_index": d["min_sigma_index"],
+        "min_manipulability": d["min_manipulability"],
+        "max_position_error": None if d["max_position_error"] is None else d["max_position_error"] / L,
+        "max_orientation_error": None if d["max_orientation_error"] is None else d["max_orientation_error"] / A,
+        "min_limit_margin": [_num(m) for m in (margins[reach].min(axis=0) if reach.any() else np.full(c.n, np.nan))],
+        "max_joint_speed": None if d["max_joint_speed"] is None else (np.array(d["max_joint_speed"]) / var).tolist(),
+        "max_speed_ratio": d["max_speed_ratio"],
+        "counts": report.counts, "windows": report.window_names,
+        "waypoints_in_windows": d["waypoints_in_windows"],
+        "length": report.s[-1] / L, "duration": d["duration"], "mode": report.mode,
+        "robot": report.robot, "source": report.source, "elapsed_s": report.elapsed_s, "stats": report.stats,
+        "units": {**unit_names(c), "joints": joint_units(c), "time": "s", "sigma_min": "SI",
+                  "min_limit_margin": "per joint, file units", "max_joint_speed": "per joint, file units / s"},
+    }
+    if waypoints:
+        qd = report.joint_speed / var
+        out["per_waypoint"] = {
+            "s": (report.s / L).tolist(), "t": None if report.t is None else report.t.tolist(),
+            "q": (report.q / var).tolist(), "reachable": reach.tolist(),
+            "position_error": (report.position_error / L).tolist(),
+            "orientation_error": (report.orientation_error / A).tolist(),
+            "limit_margin": margins.min(axis=1).tolist(), "sigma_min": report.sigma_min.tolist(),
+            "manipulability": report.manipulability.tolist(), "window": report.window.tolist(),
+            "joint_speed": qd.tolist(), "speed_ratio": report.speed_ratio.tolist(),
+            "problems": {k: report.problems(k).tolist() for k in KINDS}}
+    return jsonable(out)
+
+
+
+def report_text(report: ToolPathReport, robot: kin.Robot) -> str:
+    """The verdict line, then a short table (robot file units)."""
+    c = robot.chain
+    L, Lu, A, Au = c.length_scale, c.length_unit, c.angle_scale, c.angle_unit
+    var = c.variable_scale
+    units = joint_units(c)
+    d = report.summary()
+    N = report.n_waypoints
+    dur = "" if report.t is None else f", {report.t[-1]:.4g} s"
+    rows = [("path", f"{Path(report.source).name}: {N} waypoints, {report.s[-1] / L:.6g} {Lu}{dur} ({report.mode} IK)"),
+            ("reachable", f"{d['reachable']} / {N}")]
+    if d["max_position_error"] is not None:
+        err = f"{d['max_position_error'] / L:.3g} {Lu}"
+        if report.mode == "pose":
+            err += f", orientation {d['max_orientation_error'] / A:.3g} {Au}"
+        rows.append(("max IK error", err))
+    if d["min_sigma"] is not None:
+        rows.append(("min σ_min", f"{d['min_sigma']:.4g} at waypoint {d['min_sigma_index']}"))
+        rows.append(("min manipulability", f"{d['min_manipulability']:.4g} at waypoint {d['min_manipulability_index']}"))
+    reach = report.reachable
+    if reach.any():
+        m = (np.minimum(report.q - c.lower, c.upper - report.q) / var)[reach]
+        j = int(np.argmin(m.min(axis=0)))
+        rows.append(("min limit margin", f"{m[:, j].min():.4g} {units[j]} (joint {j + 1})"))
+    if d["max_joint_speed"] is not None:
+        v = np.array(d["max_joint_speed"]) / var
+        rows.append(("max joint speeds", ", ".join(f"q{j + 1} {v[j]:.3g} {units[j]}/s" for j in range(c.n))))
+        rows.append(("max speed ratio", "n/a (no joint speed limits)" if d["max_speed_ratio"] is None
+                     else f"{d['max_speed_ratio']:.3g} of the joints' maximum speeds"))
+    else:
+        rows.append(("joint speeds", "n/a (the path has no feed or times)"))
+    if report.window_names:
+        inside = {report.window_names[k]: int((report.window == k).sum()) for k in range(len(report.window_names))}
+        rows.append(("in windows", ", ".join(f"{k}: {v}" for k, v in inside.items())))
+    counts = ", ".join(f"{k} {v}" for k, v in report.counts.items() if v) or "none"
+    rows.append(("problems", counts))
+    st = report.stats
+    rows.append(("IK", f"{report.elapsed_s:.3g} s; {st.get('fk_jacobian_calls', 0)} FK+J evaluations, "
+                       f"{st.get('global_solves', 0)} global solves"))
+    w = max(len(k) for k, _ in rows)
+    return "\n".join([report.verdict()] + [f"  {k:<{w}}  {v}" for k, v in rows])
+
+
+def cmd_validate_toolpath(args, load_robot) -> int:
+    robot = load_robot(args.robot)
+    c = robot.chain
+    tp = load_toolpath(toolpath_file(args.toolpath), robot)
+    ws = _windows(robot, args)
+    start = None
+    if args.start is not None:
+        q = numbers(args.start, "--start")
+        if len(q) != robot.n:
+            raise kin.RmtError(f"--start: got {len(q)} values; {robot.name} has {robot.n} joints "
+                               f"({', '.join(joint_units(c))})")
+        start = c.to_si(q)
+    floor = _positive(args.sigma_floor, "--sigma-floor")
+    if args.sigma_min is not None:
+        floor = args.sigma_min if floor is None else max(floor, args.sigma_min)
+    tol_p = _positive(args.tol_position, "--tol-position")
+    tol_o = _positive(args.tol_orientation, "--tol-orientation")
+    max_step = _per_joint(robot, args.max_step, "--max-step")
+    max_speed = _per_joint(robot, args.max_speed, "--max-speed")
+    report = validate_toolpath(robot, tp, windows=ws, start_q=start, branch_seed=args.seed, sigma_min=floor,
+                               tol_position=1e-6 if tol_p is None else tol_p * c.length_scale,
+                               tol_orientation=1e-6 if tol_o is None else tol_o * c.angle_scale,
+                               max_joint_step=max_step, max_speed=max_speed)
+    if args.plot:
+        from studies.plots.toolpath import plot_toolpath_report
+        plot_toolpath_report(report, robot, args.plot)
+    if args.json:
+        print(json.dumps(report_json(report, robot, args.waypoints), allow_nan=False))
+    else:
+        print(report_text(report, robot))
+        if args.plot:
+            print(f"wrote {args.plot}")
+    return 0 if report.ok else 1
+
+
+def add_commands(add) -> None:
+    """Register ``validate-toolpath`` with the CLI's ``add(name, func, help)`` helper."""
+    sp = add("validate-toolpath", cmd_validate_toolpath,
+             "follow a Cartesian tool path (CSV or TOML) with continuous IK and check it; exit 0 valid, 1 invalid")
+    sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
+    sp.add_argument("toolpath", metavar="TOOLPATH",
+                    help="tool path: .csv (waypoints) or .toml (segments), in the robot file's units; or the name "
+                         "of a bundled example (" + ", ".join(bundled_toolpaths()) + ")")
+    g = sp.add_mutually_exclusive_group()
+    g.add_argument("--margin", type=float, metavar="X",
+                   help="singular windows of this half-width, file units (angle for revolute factors, length otherwise)")
+    g.add_argument("--sigma-min", type=float, metavar="S",
+                   help="singular windows from a σ_min threshold (SI), and S as a σ_min floor")
+    g.add_argument("--windows", metavar="FILE.json", help="singular windows saved by `rmt windows --out`")
+    sp.add_argument("--sigma-floor", type=float, metavar="S", help="fail where σ_min (SI) drops below S")
+    sp.add_argument("--start", nargs="+", metavar="Q",
+                    help="configuration to solve the first waypoint from (the start branch), file units")
+    sp.add_argument("--seed", type=int, default=0, help="seed of the global IK and of the windows (default 0)")
+    sp.add_argument("--tol-position", type=float, metavar="E", help="reach tolerance, file length unit (default 1e-6 m)")
+    sp.add_argument("--tol-orientation", type=float, metavar="E",
+                    help="orientation tolerance, file angle unit (default 1e-6 rad)")
+    sp.add_argument("--max-step", nargs="+", metavar="D",
+                    help="largest joint change between waypoints before a branch jump, file units; one value or "
+                         "one per joint (default 30° / 0.1 m)")
+    sp.add_argument("--max-speed", nargs="+", metavar="V",
+                    help="joint speed limits, file units/s; one value or one per joint (default: the robot file's)")
+    sp.add_argument("--waypoints", action="store_true", help="with --json: include the per-waypoint arrays")
+    sp.add_argument("--plot", metavar="FILE.png", help="write joint trajectories (windows shaded) and σ_min")

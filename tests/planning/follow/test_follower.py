@@ -1,0 +1,274 @@
+"""Tests of planning.follow (OSQP path follower, naive resolved rate) and of the drawing study.
+
+Tracking errors are recomputed with the plain numpy DH of ``dh_numpy`` (not rmtkit's kinematics);
+limits are checked on the returned joint path itself; the drawing path is checked against the task's
+geometry in ROBOTS.md §6.
+"""
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+
+import numpy as np
+import pytest
+from tests.dh_numpy import fk_numpy
+
+import kin
+from planning.follow import (
+    DEFAULT_V_MAX_REVOLUTE,
+    FollowError,
+    follow_path,
+    joint_velocity_limits,
+    resolved_rate,
+    window_ranges,
+)
+from planning.windows import build_windows
+from studies.drawing import START_Q, drawing_path, homework_jacobian, pen_robot, run_drawing_study
+
+
+def _errors_numpy(chain, Q, poses):
+    """Position error (m) and rotation angle (rad) with the numpy DH re-implementation."""
+    pe, oe = [], []
+    for q, T in zip(Q, poses):
+        F = fk_numpy(chain, q)
+        pe.append(np.linalg.norm(F[:3, 3] - T[:3, 3]))
+        c = np.clip((np.trace(T[:3, :3].T @ F[:3, :3]) - 1) / 2, -1, 1)
+        oe.append(math.acos(c))
+    return np.array(pe), np.array(oe)
+
+
+def _min_jerk_line(robot, q0, delta, duration=2.0, N=501):
+    T0 = robot.fk(q0)
+    t = np.linspace(0.0, duration, N)
+    u = t / duration
+    s = 10 * u ** 3 - 15 * u ** 4 + 6 * u ** 5
+    poses = np.tile(T0, (N, 1, 1))
+    poses[:, :3, 3] += np.outer(s, delta)
+    return poses, t
+
+
+@pytest.fixture(scope="module")
+def fanuc():
+    return kin.load_robot("fanuc_m16ib20")
+
+
+# ---- the follower on ordinary paths ----------------------------------------------------------------------
+def test_tracking_error_on_a_nonsingular_line(fanuc):
+    q0 = np.array([0.0, 0.3, -0.4, 0.0, -0.9, 0.0])
+    poses, t = _min_jerk_line(fanuc, q0, [0.0, 0.2, -0.1])
+    res = follow_path(fanuc, (poses, t), q0)
+    assert res.q.shape == (len(t), 6)
+    assert np.all(fanuc.sigma_min(res.q) > 0.3)           # the line stays away from singularities
+    pe, oe = _errors_numpy(fanuc.chain, res.q, poses)
+    assert pe.max() <= 1e-4
+    assert oe.max() <= 1e-4
+    assert res.max_tracking_error == pytest.approx(pe.max(), abs=1e-9)
+    assert res.within_tolerance and res.qp_status.get("solved", 0) == len(t) - 1
+    # the open-loop naive method drifts more on the same path (no feedback)
+    naive = resolved_rate(fanuc, (poses, t), q0)
+    assert naive.max_tracking_error > 10 * pe.max()
+
+
+def test_joint_and_speed_limits_hold_at_every_step(fanuc):
+    # joint 1 confined to ±0.1 rad, all speeds to 0.2 rad/s; the path asks for a 0.4 m sweep in 1 s
+    chain = fanuc.chain
+    joints = list(chain.joints)
+    joints[0] = dataclasses.replace(joints[0], limits=(-0.1, 0.1))
+    robot = kin.Robot(dataclasses.replace(chain, name="fanuc_narrow", joints=tuple(joints)))
+    q0 = np.array([0.0, 0.3, -0.4, 0.0, -0.9, 0.0])
+    poses, t = _min_jerk_line(robot, q0, [0.0, 0.4, 0.0], duration=1.0, N=251)
+    v = 0.2
+    res = follow_path(robot, (poses, t), q0, v_max=v)
+    Q = res.q
+    assert np.all(Q >= robot.chain.lower - 1e-12) and np.all(Q <= robot.chain.upper + 1e-12)
+    speeds = np.abs(np.diff(Q, axis=0)) / np.diff(t)[:, None]
+    assert speeds.max() <= v * (1 + 1e-9)
+    assert Q[:, 0].max() == pytest.approx(0.1, abs=1e-9)     # joint 1 reached its limit and stopped there
+    assert not res.within_tolerance                          # the path is not feasible: reported honestly
+    assert res.speed_ratio <= 1 + 1e-9
+
+
+def test_default_speed_limit_when_the_file_gives_none(fanuc):
+    assert all(j.max_velocity is None for j in fanuc.chain.joints)
+    np.testing.assert_array_equal(joint_velocity_limits(fanuc), np.full(6, DEFAULT_V_MAX_REVOLUTE))
+    ur5 = kin.load_robot("ur5e")
+    assert joint_velocity_limits(ur5)[0] == pytest.approx(ur5.chain.joints[0].max_velocity)
+
+
+def test_bad_input_is_a_typed_error_naming_the_parameter(fanuc):
+    q0 = np.array([0.0, 0.3, -0.4, 0.0, -0.9, 0.0])
+    poses, t = _min_jerk_line(fanuc, q0, [0.0, 0.1, 0.0], N=11)
+    with pytest.raises(FollowError, match="mode 'joint' unknown; allowed: pose, axis, position"):
+        follow_path(fanuc, (poses, t), q0, mode="joint")
+    with pytest.raises(FollowError, match="dt"):
+        follow_path(fanuc, poses, q0)
+    with pytest.raises(FollowError, match="strictly increasing"):
+        follow_path(fanuc, (poses, t[::-1]), q0)
+    bad = poses.copy()
+    bad[3, 0, 3] = np.nan
+    with pytest.raises(FollowError, match="NaN"):
+        follow_path(fanuc, bad, q0, dt=0.01)
+    with pytest.raises(FollowError, match="v_max"):
+        follow_path(fanuc, poses, q0, dt=0.01, v_max=-1.0)
+    with pytest.raises(FollowError, match="feedback"):
+        follow_path(fanuc, poses, q0, dt=0.01, feedback=2.0)
+    with pytest.raises(kin.JointLimitError, match="joint 2"):
+        follow_path(fanuc, poses, np.array([0.0, 5.0, 0.0, 0.0, 0.0, 0.0]), dt=0.01)
+    assert issubclass(FollowError, kin.RmtError)
+
+
+def test_window_ranges():
+    w = np.array([-1, 0, 0, -1, 0, 2, 2, -1])
+    out = window_ranges(w, ["a", "b", "c"])
+    assert out == [{"window": 0, "name": "a", "ranges": [[1, 2], [4, 4]], "waypoints": 3},
+                   {"window": 2, "name": "c", "ranges": [[5, 6]], "waypoints": 2}]
+
+
+# ---- the drawing task ------------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def pen():
+    return pen_robot()
+
+
+@pytest.fixture(scope="module")
+def pen_windows(pen):
+    return build_windows(pen, margin=math.radians(5.0))
+
+
+@pytest.fixture(scope="module")
+def drawing(pen, pen_windows):
+    return run_drawing_study(pen, windows=pen_windows, modes=("pose", "position"), series=True)
+
+
+def test_drawing_path_geometry(pen):
+    poses, t, _ = drawing_path(pen, START_Q)
+    assert poses.shape == (5001, 4, 4) and t[-1] == pytest.approx(20.0) and t[1] == pytest.approx(0.004)
+    p = poses[:, :3, 3]
+    # ROBOTS.md §6: the pen pose (-0.2173, -0.3878, 1.03611) m; x fixed; closed path
+    np.testing.assert_allclose(p[0], [-0.2173, -0.3878, 1.03611], atol=1e-5)
+    np.testing.assert_allclose(p[:, 0], p[0, 0], atol=1e-15)
+    np.testing.assert_allclose(p[-1], p[0], atol=1e-12)
+    R, y0, z0 = 0.05, p[0, 1], p[0, 2]
+    corners = p[[1000, 2000, 3000, 4000], 1:]
+    np.testing.assert_allclose(corners, [[y0 - R, z0 - R], [y0 - R, z0 - 2 * R], [y0 + R, z0 - 2 * R],
+                                         [y0 + R, z0 - R]], atol=1e-12)
+    # counter-clockwise seen from +x (y right, z up): the signed area is positive
+    yz = p[:, 1:]
+    area = 0.5 * np.sum(yz[:-1, 0] * yz[1:, 1] - yz[1:, 0] * yz[:-1, 1])
+    assert area == pytest.approx(math.pi * R * R / 2 + 2 * R * R, rel=1e-4)
+    # the orientation is held
+    np.testing.assert_allclose(poses[:, :3, :3], np.broadcast_to(poses[0, :3, :3], (5001, 3, 3)), atol=0)
+
+
+def test_start_pose_is_exactly_singular_and_loses_a_pen_tilt(drawing):
+    st = drawing["start"]
+    assert st["sigma_min"] < 1e-12
+    # the lost twist is a rotation about base y, not about the pen axis (−x)
+    np.testing.assert_allclose(st["lost_twist"], [0, 0, 0, 0, 1, 0], atol=1e-9)
+    np.testing.assert_allclose(st["pen_axis"], [-1, 0, 0], atol=1e-12)
+    assert st["lost_rotation_about_pen_axis"] < 1e-9
+
+
+def test_qp_completes_the_drawing_within_tolerance(pen, drawing):
+    tol_p, tol_o = drawing["tolerance"]["position_m"], drawing["tolerance"]["orientation_rad"]
+    assert (tol_p, tol_o) == (1e-3, pytest.approx(math.radians(1)))
+    d = drawing["qp"]["pose"]
+    assert d["within_tolerance"]
+    assert d["max_position_error_m"] <= tol_p and d["max_orientation_error_rad"] <= tol_o
+    # independent check of the run's errors on every 10th waypoint, with the numpy DH
+    poses, _, _ = drawing_path(pen, START_Q)
+    Q = drawing["series"]["qp_pose"]["q"]
+    pe, oe = _errors_numpy(pen.chain, Q[::10], poses[::10])
+    assert pe.max() <= tol_p and oe.max() <= tol_o
+    assert pe.max() == pytest.approx(drawing["series"]["qp_pose"]["position_error"][::10].max(), abs=1e-12)
+    # speed limits: default π rad/s
+    assert d["speed_ratio"] <= 1 + 1e-9
+
+
+def test_naive_homework_method_blows_up_qp_does_not(drawing):
+    nh, qp = drawing["naive_homework"], drawing["qp"]["pose"]
+    assert nh["pinv_steps"] >= 1 and nh["first_pinv_steps"][0] == 0       # J exactly singular at the start
+    assert nh["peak_joint_speed"] >= 1e3 * qp["peak_joint_speed"]        # measured ~1e19×
+    assert nh["max_position_error_m"] > 0.01 and not nh["within_tolerance"]
+    assert qp["peak_joint_speed"] < 0.2                                    # measured 0.057 rad/s
+
+
+def test_naive_method_with_the_correct_jacobian(drawing, pen):
+    # honest finding: with the right Jacobian the naive method survives this particular path
+    nv = drawing["naive"]
+    assert nv["first_pinv_steps"] == [0]             # solve raised at the exactly singular start
+    assert nv["singular_steps"] >= 1
+    assert nv["within_tolerance"] and nv["max_position_error_m"] < 1e-4
+    assert nv["peak_joint_speed"] == pytest.approx(drawing["qp"]["pose"]["peak_joint_speed"], rel=0.2)
+
+
+def test_homework_jacobian_uses_axes_z1_to_z6(pen):
+    # the correct Jacobian's column i uses z_{i-1}; the homework's uses z_i: its last column is
+    # [z6 × 0; z6] and its first column is the correct second column's axis
+    q = np.array([0.1, 0.2, 1.3, -1.1, 0.4, 0.3])
+    Jh = homework_jacobian(pen)(q)
+    J = pen.jacobian(q)
+    T = pen.fk(q)
+    np.testing.assert_allclose(Jh[:3, -1], 0, atol=1e-12)
+    np.testing.assert_allclose(Jh[3:, -1], T[:3, 2], atol=1e-12)
+    np.testing.assert_allclose(Jh[3:, :-1], J[3:, 1:], atol=1e-12)
+
+
+def test_windows_only_where_the_path_forces_them(drawing):
+    pose, pos = drawing["qp"]["pose"], drawing["qp"]["position"]
+    # pose mode: the whole drawing lies on the wrist singular set (θ5 = 0 forced), every step forced
+    assert [w["name"] for w in pose["windows_entered"]] == ["wrist: sin(q5)"]
+    assert pose["windows_entered"][0]["ranges"] == [[0, 5000]]
+    assert pose["forced_steps"] == 5000
+    assert pose["max_abs_q5_rad"] < 1e-6 and pose["max_abs_q1_rad"] < 1e-6
+    # position mode: not forced — out of the wrist window within the first 2 s, and never back
+    ranges = pos["windows_entered"]
+    assert len(ranges) == 1 and ranges[0]["ranges"][0][0] == 0 and len(ranges[0]["ranges"]) == 1
+    assert ranges[0]["ranges"][0][1] < 500
+    assert pos["forced_steps"] == 0
+    assert pos["max_position_error_m"] <= 1e-3
+    s = drawing["series"]["qp_position"]["in_window"]
+    assert np.all(s[ranges[0]["ranges"][0][1] + 1:] == -1)
+
+
+def test_resolved_rate_at_an_exactly_singular_start(pen):
+    poses, t, _ = drawing_path(pen, START_Q)
+    res = resolved_rate(pen, (poses[:11], t[:11]), np.array(START_Q))
+    assert res.pinv_steps[0] == 0 and math.isinf(res.condition[0])
+    assert np.all(np.isfinite(res.q))
+
+
+def test_cli_drawing_json_and_plot(capsys, tmp_path, monkeypatch, drawing):
+    # the CLI glue end to end (arguments, JSON, plot file, exit codes) on the study computed above
+    import copy
+
+    import studies.cli.follow as cf
+    from studies.cli import main
+    calls = {}
+
+    def cached(robot, **kw):
+        calls.update(kw, robot=robot.name)
+        out = copy.deepcopy(drawing)
+        if not kw.get("series"):
+            out.pop("series")
+        return out
+
+    monkeypatch.setattr(cf, "run_drawing_study", cached)
+    png = tmp_path / "drawing.png"
+    code = main(["drawing", "--json", "--plot", str(png)])
+    out, err = capsys.readouterr()
+    assert code == 0 and err == ""
+    d = json.loads(out)
+    assert calls["series"] is True and calls["robot"] == "ur3_homework_pen"
+    assert calls["window_margin"] == pytest.approx(math.radians(5))
+    assert d["qp"]["pose"]["within_tolerance"] and "series" not in d
+    assert d["start"]["condition"] is None                     # infinite → null in JSON
+    assert png.stat().st_size > 10_000 and png.read_bytes()[:4] == b"\x89PNG"
+    code = main(["drawing", "--margin", "2"])
+    out, err = capsys.readouterr()
+    assert code == 0 and "QP follower, pose mode" in out and "naive, homework J" in out
+    assert calls["window_margin"] == pytest.approx(math.radians(2))
+    code = main(["drawing", "--margin", "-3"])
+    _, err = capsys.readouterr()
+    assert code == 2 and "--margin" in err and "Traceback" not in err
