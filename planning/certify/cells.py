@@ -1,0 +1,172 @@
+"""Proofs that no joint path exists: start and goal in different free cells of the joint space.
+
+The windows split the joints into independent groups: two joints are in one group when some window
+involves both.  The free space (inside the limits, outside every window) is then the product of one
+free set per group, so a joint path exists only if, in every group, the start's and the goal's
+projections lie in one connected piece of that group's free set.
+
+* A group of one joint whose windows are intervals (a single-joint factor, e.g. the wrist window
+  q5 ∈ [−m, m]) is a line minus intervals: its free pieces are intervals, decided exactly.  Such a
+  window is a slab across the whole joint space — it separates every configuration on one side
+  from every one on the other.
+* A group of two or three joints is covered by a grid of cells over its joint limits.  A cell is
+  *blocked* only when interval arithmetic proves it lies wholly inside one window
+  (:mod:`planning.certify.intervals`); the unblocked cells, joined through faces, edges and corners,
+  hold the whole free set.  If the start's and the goal's cells are in different components of the
+  unblocked cells, no joint path exists — a proof, whatever the grid's resolution (a coarser grid
+  only proves less).
+* Larger groups, and windows whose expression interval arithmetic does not support, are left out —
+  leaving a window out only enlarges the set searched, so every verdict stays sound.
+
+Keep-out boxes and σ_min floors only shrink the free space further; they are not needed for a
+verdict of impossibility, which is all this module gives ("no path" is proven; "maybe a path" is
+left to the planner).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage
+
+from planning.certify.intervals import IntervalError, compile_interval
+from planning.certify.segments import _symbols, window_expression
+
+__all__ = ["FreeCells", "Separation", "GRID_CELLS"]
+
+#: cells per axis of the grid for a group of 1, 2 or 3 joints
+GRID_CELLS = {1: 4096, 2: 256, 3: 48}
+
+
+@dataclass(frozen=True)
+class Separation:
+    """Why no joint path joins two configurations: ``joints`` (1-based) of the group that separates
+    them, ``windows`` (names) of that group, ``kind`` (``"slab"``: exact, one joint; ``"cells"``:
+    the proven-blocked cells of a 2- or 3-joint group), and ``reason``, one sentence (SI units)."""
+
+    joints: tuple[int, ...]
+    windows: tuple[str, ...]
+    kind: str
+    reason: str
+
+
+def _fmt(v: float) -> str:
+    return f"{v:.4g}"
+
+
+class FreeCells:
+    """The free-cell structure of one robot's windows (computed once; queries are cheap).
+
+    ``lower``, ``upper``: the joint limits (SI, (n,)); ``windows``: a WindowSet (or None).
+    """
+
+    def __init__(self, lower, upper, windows, grid_cells: dict[int, int] | None = None):
+        self.lower = np.asarray(lower, dtype=float)
+        self.upper = np.asarray(upper, dtype=float)
+        self.n = len(self.lower)
+        self.windows = [] if windows is None else list(windows.windows)
+        self.grid_cells = dict(GRID_CELLS if grid_cells is None else grid_cells)
+        parent = list(range(self.n))
+
+        def find(i):
+            while parent[i] != i:
+                parent[i] = parent[parent[i]]
+                i = parent[i]
+            return i
+        for w in self.windows:
+            js = [j - 1 for j in w.joints]
+            for j in js[1:]:
+                parent[find(j)] = find(js[0])
+        groups: dict[int, list[int]] = {}
+        for j in range(self.n):
+            groups.setdefault(find(j), []).append(j)
+        self.groups = []
+        for js in groups.values():
+            ws = [w for w in self.windows if (w.joints[0] - 1) in js]
+            if ws:
+                self.groups.append((tuple(js), ws))
+        self._grids: dict[tuple[int, ...], tuple[np.ndarray, np.ndarray, np.ndarray, list[str]] | None] = {}
+
+    # ---- one joint: exact ------------------------------------------------------------------------
+    def _slab(self, j: int, ws, a: float, b: float) -> Separation | None:
+        blocked = sorted((lo, hi) for w in ws for lo, hi in w.intervals)
+        lo_, hi_ = min(a, b), max(a, b)
+        for lo, hi in blocked:
+            if lo_ < lo and hi < hi_:          # a whole window interval lies between the two values
+                w = next(w for w in ws if (lo, hi) in [tuple(iv) for iv in w.intervals])
+                return Separation((j + 1,), (w.name,), "slab",
+                                  f"the {w.kind} window q{j + 1} ∈ [{_fmt(lo)}, {_fmt(hi)}] separates start "
+                                  f"(q{j + 1} = {_fmt(a)}) and goal (q{j + 1} = {_fmt(b)})")
+        return None
+
+    # ---- two or three joints: proven-blocked cells --------------------------------------------------
+    def _grid(self, js: tuple[int, ...], ws):
+        if js in self._grids:
+            return self._grids[js]
+        d = len(js)
+        R = self.grid_cells.get(d)
+        result = None
+        if R:
+            edges = [np.linspace(self.lower[j], self.upper[j], R + 1) for j in js]
+            idx = np.stack(np.meshgrid(*[np.arange(R)] * d, indexing="ij"), axis=-1).reshape(-1, d)
+            lo = np.tile(self.lower, (len(idx), 1))
+            hi = np.tile(self.upper, (len(idx), 1))
+            for c, j in enumerate(js):
+                lo[:, j] = edges[c][idx[:, c]]
+                hi[:, j] = edges[c][idx[:, c] + 1]
+            blocked = np.zeros(len(idx), bool)
+            used = []
+            syms = _symbols(self.n)
+            for w in ws:
+                if w.is_interval:
+                    j = w.joint
+                    for a, b in w.intervals:
+                        blocked |= (lo[:, j] >= a) & (hi[:, j] <= b)
+                    used.append(w.name)
+                    continue
+                try:
+                    fn = compile_interval(window_expression(w), syms)
+                except IntervalError:
+                    continue                    # left out: the verdict stays sound
+                glo, ghi = fn(lo, hi)
+                blocked |= (glo >= -w.epsilon) & (ghi <= w.epsilon)
+                used.append(w.name)
+            free = ~blocked.reshape((R,) * d)
+            labels, _ = ndimage.label(free, structure=np.ones((3,) * d, int))
+            result = (labels, np.array(edges), free, used)
+        self._grids[js] = result
+        return result
+
+    def _cell(self, edges, q, js):
+        return tuple(int(np.clip(np.searchsorted(edges[c], q[j], side="right") - 1, 0, len(edges[c]) - 2))
+                     for c, j in enumerate(js))
+
+    def separation(self, start, goal) -> Separation | None:
+        """Why no joint path joins ``start`` and ``goal`` (SI, (n,)), or None when no group proves it.
+        Both are assumed valid (inside the limits and outside every window)."""
+        a = np.asarray(start, dtype=float)
+        b = np.asarray(goal, dtype=float)
+        for js, ws in self.groups:
+            if len(js) == 1 and all(w.is_interval for w in ws):
+                sep = self._slab(js[0], ws, float(a[js[0]]), float(b[js[0]]))
+            else:
+                grid = self._grid(js, ws)
+                if grid is None:
+                    continue
+                labels, edges, free, used = grid
+                ca, cb = self._cell(edges, a, js), self._cell(edges, b, js)
+                la, lb = labels[ca], labels[cb]
+                if la == 0 or lb == 0 or la == lb:      # 0: a blocked cell (the point is not free)
+                    continue
+                names = ", ".join(f"q{j + 1}" for j in js)
+                sep = Separation(tuple(j + 1 for j in js), tuple(used), "cells",
+                                 f"the windows {', '.join(repr(u) for u in used)} cut joints ({names}) into "
+                                 f"separate free regions: start ({', '.join(_fmt(a[j]) for j in js)}) and goal "
+                                 f"({', '.join(_fmt(b[j]) for j in js)}) lie in different ones")
+            if sep is not None:
+                return sep
+        return None
+
+    def same_cell(self, start, goal) -> bool:
+        """False when a path between them is proven impossible (see :meth:`separation`)."""
+        return self.separation(start, goal) is None
