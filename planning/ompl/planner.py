@@ -6,9 +6,17 @@ boxes), a motion validator that checks a whole motion as one batch at a step fin
 narrowest window (so no window can be jumped), a problem definition with an optional objective
 (path length, or path length plus a singularity cost ∫ 1/σ_min), and a planner chosen by name.
 
+Before planning, :class:`planning.certify.FreeCells` decides whether start and goal lie in different
+free cells (a slab window such as the wrist window q5 ∈ [−m, m] between them, or proven-blocked
+cells of a 2- or 3-joint group): such a query is answered at once, "no joint path exists", with the
+reason.  A goal given as a tool pose is chosen among its IK branches (and, for a spherical wrist, the
+flipped wrist q4 ± π, −q5, q6 ± π) that are valid and in the start's free cell, nearest first.
+
 Every returned path is re-checked by :func:`planning.validate.check_path`, independently of the
-planner (and, with keep-out boxes, its densely interpolated tool points against the boxes); a path that fails is repaired (the unsimplified path, then re-planning with a finer
-motion step) or reported as a failure — :func:`plan` never returns an invalid path as a success.
+planner (and, with keep-out boxes, its densely interpolated tool points against the boxes), and
+proven clear of every window segment by segment (:func:`planning.certify.certify_path`); a path that
+fails is repaired (the unsimplified path, then re-planning with a finer motion step) or reported as
+a failure — :func:`plan` never returns an invalid path as a success.
 """
 from __future__ import annotations
 
@@ -21,6 +29,7 @@ import numpy as np
 
 from kin.errors import ConfigurationError
 
+from planning.certify import FreeCells, PathProof, Separation, certify_path
 from planning.errors import PlanningError
 from planning.ompl.bindings import ob, og, quiet_rng_seed
 from planning.validate import (
@@ -65,13 +74,28 @@ class PlanResult:
     straight_line_valid: bool
     goal: np.ndarray | None = None
     attempts: list[str] = field(default_factory=list)
+    proof: PathProof | None = None           # windows proven clear segment by segment (None: no path)
+    separation: Separation | None = None     # why no joint path exists (decided before planning)
+    goal_branch: dict | None = None          # for a pose goal: the branch chosen among the candidates
+
+    @property
+    def proven(self) -> bool:
+        """True when the returned path is proven clear of every window (not only sampled)."""
+        return self.success and self.proof is not None and self.proof.proven
 
     def to_dict(self) -> dict:
         return {"success": self.success, "path": self.path.tolist(), "planner": self.planner,
                 "time_s": self.time_s, "length": self.length,
                 "min_sigma": None if not math.isfinite(self.min_sigma) else self.min_sigma,
                 "status": self.status, "straight_line_valid": self.straight_line_valid,
-                "check": None if self.check is None else self.check.to_dict(), "attempts": self.attempts}
+                "check": None if self.check is None else self.check.to_dict(), "attempts": self.attempts,
+                "proven": self.proven,
+                "proof": None if self.proof is None else
+                {"methods": self.proof.methods, "unproven_segments": len(self.proof.unproven)},
+                "separation": None if self.separation is None else
+                {"joints": list(self.separation.joints), "windows": list(self.separation.windows),
+                 "kind": self.separation.kind, "reason": self.separation.reason},
+                "goal_branch": self.goal_branch}
 
 
 def path_length(path: np.ndarray) -> float:
@@ -106,19 +130,52 @@ class _SingularityCost(ob.StateCostIntegralObjective):
         return ob.Cost(self.scale / max(self.checker.sigma(q), 1e-9))
 
 
+def _wrist_flips(robot, q: np.ndarray, pose: np.ndarray) -> list[np.ndarray]:
+    """The flipped-wrist twins of ``q`` (q4 ± π, −q5, q6 ± π) that reach the same pose — a spherical
+    wrist has them; the FK check keeps only true twins, whatever the chain."""
+    n = robot.n
+    if n < 6 or not all(robot.chain.joints[k].is_revolute for k in (n - 3, n - 2, n - 1)):
+        return []
+    out = []
+    for s4 in (math.pi, -math.pi):
+        for s6 in (math.pi, -math.pi):
+            f = q.copy()
+            f[n - 3] += s4
+            f[n - 2] = -f[n - 2]
+            f[n - 1] += s6
+            T = robot.fk(f)
+            if np.abs(T - pose).max() < 1e-9 and robot.within_limits(f):
+                out.append(f)
+    return out
+
+
 def _goal_from_pose(robot, pose: np.ndarray, start: np.ndarray, checker: JointSpaceChecker,
-                    seed: int) -> np.ndarray:
-    """IK solutions of a tool pose; the valid one nearest the start."""
-    cands = []
+                    cells: FreeCells, seed: int) -> tuple[np.ndarray, dict]:
+    """The goal configuration of a tool pose: among the IK solutions from several starts and their
+    wrist twins, the valid ones in the start's free cell, nearest the start first (else the nearest
+    valid one; the caller then reports the separation).  Returns it and a description."""
+    cands: list[np.ndarray] = []
     for k in range(8):
         res = robot.ik(pose, seed=seed + k, q0=start if k == 0 else None)
-        if res.success and checker.state_valid(res.q):
+        if res.success:
             cands.append(res.q)
-    if not cands:
+            cands.extend(_wrist_flips(robot, res.q, pose))
+    uniq: list[np.ndarray] = []
+    for c in cands:
+        if checker.state_valid(list(c)) and not any(np.abs(c - u).max() < 1e-6 for u in uniq):
+            uniq.append(c)
+    if not uniq:
         raise PlanningError("goal pose: no valid IK solution (inside the limits, outside every window"
                             + (", above the σ_min floor" if checker.sigma_floor else "") + ")")
-    cands = np.array(cands)
-    return cands[np.argmin(np.linalg.norm(cands - start, axis=1))]
+    dist = [float(np.linalg.norm(c - start)) for c in uniq]
+    same = [cells.same_cell(start, c) for c in uniq]
+    order = sorted(range(len(uniq)), key=lambda i: (not same[i], dist[i]))
+    best = order[0]
+    nearest = int(np.argmin(dist))
+    info = {"candidates": len(uniq), "in_start_cell": int(sum(same)), "chosen_distance": dist[best],
+            "nearest_distance": dist[nearest], "nearest_in_start_cell": bool(same[nearest]),
+            "q": uniq[best].tolist()}
+    return uniq[best], info
 
 
 def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str = "RRTConnect",
@@ -147,17 +204,24 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
     start_q = start_q[0]
     checker = JointSpaceChecker(robot, windows, sigma_min, boxes, motion_step)
     checker.require_valid(start_q, "start")
+    cells = FreeCells(chain.lower, chain.upper, windows)
+    goal_branch = None
     if (goal is None) == (goal_pose is None):
         raise PlanningError("give exactly one of goal (a configuration) or goal_pose (a 4×4 tool pose)")
     if goal_pose is not None:
         pose = np.asarray(goal_pose, dtype=float)
         if pose.shape != (4, 4) or not np.isfinite(pose).all():
             raise ConfigurationError(f"goal pose has shape {pose.shape}; expected a finite 4×4 transform")
-        goal_q = _goal_from_pose(robot, pose, start_q, checker, seed)
+        goal_q, goal_branch = _goal_from_pose(robot, pose, start_q, checker, cells, seed)
     else:
         goal_q, _ = chain.as_batch(goal, "goal")
         goal_q = goal_q[0]
     checker.require_valid(goal_q, "goal")
+    sep = cells.separation(start_q, goal_q)
+    if sep is not None:
+        status = f"no joint path exists: {sep.reason}"
+        return PlanResult(False, np.zeros((0, chain.n)), cls.__name__, time.perf_counter() - t0, math.nan, math.nan,
+                          None, status, False, goal_q, [status], separation=sep, goal_branch=goal_branch)
 
     straight = np.array([start_q, goal_q])
     # the cheap motion check first: the dense check (σ_min at every 0.1°) only when it passes
@@ -174,10 +238,18 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
             chk = check_path(robot, cand, windows, sigma_min, check_step_angle, check_step_length)
             box_row = _box_violation(robot, checker, cand, check_step_angle, check_step_length) \
                 if chk.valid and checker.boxes else None
-            if chk.valid and box_row is None:
-                attempts.append(f"{status}; dense check passed")
+            proof = certify_path(windows, cand) if chk.valid and box_row is None else None
+            if proof is not None and proof.violation is None:
+                attempts.append(f"{status}; dense check passed; windows "
+                                + ("proven clear" if proof.proven else f"sampled on {len(proof.unproven)} segment(s)"))
                 return PlanResult(True, cand, cls.__name__, time.perf_counter() - t0, path_length(cand),
-                                  chk.min_sigma, chk, status, straight_ok, goal_q, attempts)
+                                  chk.min_sigma, chk, status, straight_ok, goal_q, attempts, proof=proof,
+                                  goal_branch=goal_branch)
+            if proof is not None:
+                v = proof.violation
+                attempts.append(f"{status}; proof failed: segment {v.segment} enters window '{v.window}' at "
+                                f"{v.t:.4f} of it")
+                continue
             if not chk.valid:
                 attempts.append(f"{status}; dense check failed: {chk.first_violation.kind} at row "
                                 f"{chk.first_violation.index}")
@@ -186,7 +258,8 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
         step /= 4.0          # repair: a finer motion validator, then plan again
         checker.motion_step = step
     return PlanResult(False, np.zeros((0, chain.n)), cls.__name__, time.perf_counter() - t0, math.nan, math.nan,
-                      None, attempts[-1] if attempts else "failed", straight_ok, goal_q, attempts)
+                      None, attempts[-1] if attempts else "failed", straight_ok, goal_q, attempts,
+                      goal_branch=goal_branch)
 
 
 def _box_violation(robot, checker: JointSpaceChecker, path: np.ndarray, step_angle: float,

@@ -314,3 +314,40 @@ def test_cli_check_path_exit_codes(capsys, tmp_path):
     assert err.startswith("rmt: error:") and err.count("\n") == 1 and "line 2" in err
     code, _, err = run(capsys, "check-path", "puma560", str(tmp_path / "missing.csv"))
     assert code == 2 and "no such joint-path file" in err
+
+
+# ---- impossible queries, pose goals across the wrist window, proofs ----------------------------------
+def test_separated_query_is_answered_before_planning():
+    robot = kin.load_robot("fanuc_m16ib20")
+    ws = build_windows(robot, margin=0.05)
+    start = np.array([0.0, -0.3, 0.4, 0.2, -0.6, 0.0])
+    goal = np.array([0.4, -0.2, 0.3, -0.2, 0.8, 0.1])
+    res = plan(robot, start, goal, ws, time_limit=30.0, seed=0)
+    assert not res.success and res.separation is not None
+    assert res.status.startswith("no joint path exists: the wrist window q5 ∈ [-0.05, 0.05] separates start "
+                                 "(q5 = -0.6) and goal (q5 = 0.8)")
+    assert res.attempts == [res.status]                  # OMPL never ran
+    assert res.to_dict()["separation"]["joints"] == [5]
+
+
+def test_pose_goal_across_the_wrist_window_uses_the_flipped_wrist():
+    robot = kin.load_robot("fanuc_m16ib20")
+    ws = build_windows(robot, margin=0.05)
+    start = np.array([0.0, -0.3, 0.4, 0.2, -0.6, 0.0])
+    far = np.array([0.4, -0.2, 0.3, -0.2, 0.8, 0.1])      # q5 > 0: across the wrist window
+    pose = robot.fk(far)
+    res = plan(robot, start, goal_pose=pose, windows=ws, time_limit=5.0, seed=0)
+    assert res.success and res.proven
+    assert res.path[-1][4] < 0                            # the goal branch on the start's side
+    assert np.abs(robot.fk(res.path[-1]) - pose).max() < 1e-9
+    assert res.goal_branch["in_start_cell"] >= 1 and res.goal_branch["candidates"] >= 2
+    assert check_path(robot, res.path, ws).valid
+
+
+def test_returned_paths_are_proven():
+    robot = kin.load_robot("fanuc_m16ib20")
+    ws = build_windows(robot, margin=0.05)
+    res = plan(robot, np.array([0.0, -0.8, 0.7, 0.3, 0.8, 0.0]), np.array([0.5, -0.5, -1.6, -0.3, 0.9, 0.4]), ws,
+               time_limit=2.0, seed=0)
+    assert res.success and res.proven and res.proof.methods["wrist: sin(q5)"] == "exact"
+    assert any(m == "interval" for m in res.proof.methods.values())
