@@ -24,6 +24,7 @@ left to the planner).
 """
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,7 +33,7 @@ from scipy import ndimage
 from planning.certify.intervals import IntervalError, compile_interval
 from planning.certify.segments import _symbols, window_expression
 
-__all__ = ["FreeCells", "Separation", "GRID_CELLS"]
+__all__ = ["FreeCells", "Separation", "GRID_CELLS", "free_cells"]
 
 #: cells per axis of the grid for a group of 1, 2 or 3 joints
 GRID_CELLS = {1: 4096, 2: 256, 3: 48}
@@ -170,3 +171,21 @@ class FreeCells:
     def same_cell(self, start, goal) -> bool:
         """False when a path between them is proven impossible (see :meth:`separation`)."""
         return self.separation(start, goal) is None
+
+
+_CACHE: dict[tuple, tuple[weakref.ref, FreeCells]] = {}
+
+
+def free_cells(lower, upper, windows) -> FreeCells:
+    """:class:`FreeCells` of these limits and windows, built once per WindowSet object and reused
+    (the grids are the expensive part; a query is a lookup)."""
+    key = (id(windows), np.asarray(lower, dtype=float).tobytes(), np.asarray(upper, dtype=float).tobytes())
+    hit = _CACHE.get(key)
+    if hit is not None and windows is not None and hit[0]() is windows:
+        return hit[1]
+    cells = FreeCells(lower, upper, windows)
+    if windows is not None:
+        for k in [k for k, (ref, _) in _CACHE.items() if ref() is None]:
+            del _CACHE[k]
+        _CACHE[key] = (weakref.ref(windows), cells)
+    return cells

@@ -29,7 +29,7 @@ import numpy as np
 
 from kin.errors import ConfigurationError
 
-from planning.certify import FreeCells, PathProof, Separation, certify_path
+from planning.certify import FreeCells, PathProof, Separation, certify_path, free_cells
 from planning.errors import PlanningError
 from planning.ompl.bindings import ob, og, quiet_rng_seed
 from planning.validate import (
@@ -130,7 +130,7 @@ class _SingularityCost(ob.StateCostIntegralObjective):
         return ob.Cost(self.scale / max(self.checker.sigma(q), 1e-9))
 
 
-def _wrist_flips(robot, q: np.ndarray, pose: np.ndarray) -> list[np.ndarray]:
+def wrist_twins(robot, q: np.ndarray, pose: np.ndarray) -> list[np.ndarray]:
     """The flipped-wrist twins of ``q`` (q4 ± π, −q5, q6 ± π) that reach the same pose — a spherical
     wrist has them; the FK check keeps only true twins, whatever the chain."""
     n = robot.n
@@ -159,7 +159,7 @@ def _goal_from_pose(robot, pose: np.ndarray, start: np.ndarray, checker: JointSp
         res = robot.ik(pose, seed=seed + k, q0=start if k == 0 else None)
         if res.success:
             cands.append(res.q)
-            cands.extend(_wrist_flips(robot, res.q, pose))
+            cands.extend(wrist_twins(robot, res.q, pose))
     uniq: list[np.ndarray] = []
     for c in cands:
         if checker.state_valid(list(c)) and not any(np.abs(c - u).max() < 1e-6 for u in uniq):
@@ -204,7 +204,7 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
     start_q = start_q[0]
     checker = JointSpaceChecker(robot, windows, sigma_min, boxes, motion_step)
     checker.require_valid(start_q, "start")
-    cells = FreeCells(chain.lower, chain.upper, windows)
+    cells = free_cells(chain.lower, chain.upper, windows)
     goal_branch = None
     if (goal is None) == (goal_pose is None):
         raise PlanningError("give exactly one of goal (a configuration) or goal_pose (a 4×4 tool pose)")

@@ -43,14 +43,15 @@ import platform
 import statistics
 import sys
 import time
-from dataclasses import dataclass
 
 import numpy as np
 
 import kin
-from planning.ompl.planner import plan
-from planning.validate import check_path, densify
-from planning.windows import WindowSet, build_windows
+from planning.certify import certify_path
+from planning.ompl.planner import plan, wrist_twins
+from planning.validate import check_path
+from planning.windows import build_windows
+from studies.benchmarks.plan_pairs import MAX_DRAWS, Connectivity, crosses_window, draw_pairs, naive_plan
 
 ROBOTS = ("fanuc_m16ib20", "puma560", "ur3_homework")
 MARGIN = 0.05            # rad, half-width of every window
@@ -59,161 +60,17 @@ QUICK_PAIRS = 10
 SEED = 20240612
 PLANNER = "RRTConnect"
 TIME_LIMIT = 2.0         # s
-GRID_FRACTION = 0.25     # grid step ≤ this fraction of the narrowest full window width (2 × margin)
-MAX_DRAWS = 600_000      # start/goal pairs drawn per robot before giving up
 
 TARGETS = {
     # key: (description, comparison, threshold, unit)
     "success_rate": (f"success rate ({PLANNER}, {TIME_LIMIT:g} s limit)", ">=", 0.98, ""),
     "median_time_s": ("median planning time", "<=", 0.3, "s"),
     "dense_valid_rate": ("returned paths dense-valid", ">=", 1.0, ""),
+    "proven_rate": ("returned paths proven clear of every window", ">=", 1.0, ""),
+    "verdict_time_median_s": ("separated queries: median time to the verdict", "<=", 0.05, "s"),
+    "verdict_rate": ("separated queries answered before planning", ">=", 0.98, ""),
+    "pose_goal_success_rate": ("pose goals across the wrist window: success", ">=", 0.98, ""),
 }
-
-
-# ---- connectivity, independent of the planner ------------------------------------------------
-def joint_groups(ws: WindowSet) -> list[list[int]]:
-    """0-based joints the windows depend on, grouped: joints sharing a window are in one group."""
-    parent: dict[int, int] = {}
-
-    def find(j: int) -> int:
-        while parent[j] != j:
-            parent[j] = parent[parent[j]]
-            j = parent[j]
-        return j
-
-    for w in ws.windows:
-        js = [j - 1 for j in w.joints]
-        for j in js:
-            parent.setdefault(j, j)
-        for j in js[1:]:
-            parent[find(j)] = find(js[0])
-    groups: dict[int, list[int]] = {}
-    for j in sorted(parent):
-        groups.setdefault(find(j), []).append(j)
-    return sorted(groups.values())
-
-
-@dataclass
-class GroupGrid:
-    """Connected components of the free set of one joint group, on a regular grid."""
-
-    joints: list[int]           # 0-based
-    axes: list[np.ndarray]      # grid values per joint (SI), from the lower to the upper limit
-    labels: np.ndarray          # int32 grid, 0 inside a window, 1..count per component
-    count: int
-    step: float                 # largest grid step (SI)
-    free_fraction: float
-    seconds: float
-
-    def label_of(self, Q: np.ndarray) -> np.ndarray:
-        """Component label (N,) of the grid point nearest to each configuration (0: in a window)."""
-        idx = []
-        for j, ax in zip(self.joints, self.axes):
-            h = (ax[-1] - ax[0]) / (len(ax) - 1)
-            idx.append(np.clip(np.rint((Q[:, j] - ax[0]) / h).astype(int), 0, len(ax) - 1))
-        return self.labels[tuple(idx)]
-
-
-def label_group(robot, ws: WindowSet, joints: list[int], step: float) -> GroupGrid:
-    """Label the free set of ``joints`` (their windows only) on a grid of step ≤ ``step``."""
-    from scipy import ndimage
-
-    t0 = time.perf_counter()
-    lo, hi = robot.chain.lower, robot.chain.upper
-    mine = [w for w in ws.windows if {j - 1 for j in w.joints} <= set(joints)]
-    axes = [np.linspace(lo[j], hi[j], int(math.ceil((hi[j] - lo[j]) / step)) + 1) for j in joints]
-    shape = tuple(len(a) for a in axes)
-    free = np.empty(shape, bool)
-    # one slice of the first joint at a time; the other joints stay at 0 (the group's windows do
-    # not depend on them)
-    rest = np.meshgrid(*axes[1:], indexing="ij") if len(joints) > 1 else []
-    Q = np.zeros((int(np.prod(shape[1:])), robot.n), order="F")   # column access is what the windows do
-    for k, j in enumerate(joints[1:], 1):
-        Q[:, j] = rest[k - 1].ravel()
-    for i, x in enumerate(axes[0]):
-        Q[:, joints[0]] = x
-        inside = np.zeros(len(Q), bool)
-        for w in mine:
-            inside |= w.contains(Q)
-        free[i] = ~inside.reshape(shape[1:])
-    free = free.reshape(shape)
-    structure = ndimage.generate_binary_structure(len(joints), 1)   # faces only: no diagonal leaks
-    labels, count = ndimage.label(free, structure=structure)
-    return GroupGrid(joints, axes, labels, int(count), float(max((a[-1] - a[0]) / (len(a) - 1) for a in axes)),
-                     float(free.mean()), time.perf_counter() - t0)
-
-
-class Connectivity:
-    """Whether two valid configurations lie in one connected component of the free joint space."""
-
-    def __init__(self, robot, ws: WindowSet, fraction: float = GRID_FRACTION):
-        widths = [2 * w.width for w in ws.windows if w.width > 0]
-        self.step = fraction * min(widths) if widths else math.inf
-        self.groups = [label_group(robot, ws, g, self.step) for g in joint_groups(ws)]
-
-    def labels(self, Q: np.ndarray) -> np.ndarray:
-        """(N, groups) component labels; a 0 means the nearest grid point is inside a window."""
-        Q = np.atleast_2d(Q)
-        if not self.groups:
-            return np.ones((len(Q), 0), int)
-        return np.stack([g.label_of(Q) for g in self.groups], axis=1)
-
-
-# ---- pairs ---------------------------------------------------------------------------------
-def crosses_window(robot, ws: WindowSet, a: np.ndarray, b: np.ndarray) -> bool:
-    """Whether the straight joint-space line a→b enters a window (states 0.1° apart, windows only)."""
-    Q, _, _ = densify(np.array([a, b]), robot.chain.revolute_mask)
-    return bool(ws.contains(Q).any())
-
-
-def draw_pairs(robot, ws: WindowSet, conn: Connectivity, count: int, seed: int, batch: int = 20_000,
-               max_draws: int = MAX_DRAWS) -> tuple[np.ndarray, dict]:
-    """``count`` blocked, connectable start/goal pairs (count, 2, n) and the tallies of the draw.
-
-    Configurations are drawn uniformly in the limits and paired in draw order.  A valid pair is
-    rejected when its two ends lie in different components (unconnectable) or when its straight
-    line stays outside every window (not a blocked case); the rest are kept, after a final dense
-    :func:`check_path` of the straight line confirms it fails with kind ``window``.  Gives up after
-    ``max_draws`` pairs (fewer pairs are returned: some machines have almost none, see the PUMA note
-    in :func:`bench_robot`).
-    """
-    rng = np.random.default_rng(seed)
-    lo, hi = robot.chain.lower, robot.chain.upper
-    tally = {"drawn_pairs": 0, "invalid_pairs": 0, "grid_ambiguous_pairs": 0, "valid_pairs": 0,
-             "unconnectable": 0, "connectable_straight_line_valid": 0, "kept": 0}
-    pairs: list[np.ndarray] = []
-    while len(pairs) < count:
-        if tally["drawn_pairs"] >= max_draws:
-            break
-        A = rng.uniform(lo, hi, size=(batch, robot.n))
-        B = rng.uniform(lo, hi, size=(batch, robot.n))
-        valid = ~ws.contains(A) & ~ws.contains(B)
-        LA, LB = conn.labels(A), conn.labels(B)
-        resolved = (LA > 0).all(axis=1) & (LB > 0).all(axis=1)   # not within a grid step of a window
-        same = (LA == LB).all(axis=1)
-        for k in range(min(batch, max_draws - tally["drawn_pairs"])):
-            tally["drawn_pairs"] += 1
-            if not valid[k]:
-                tally["invalid_pairs"] += 1
-                continue
-            if not resolved[k]:
-                tally["grid_ambiguous_pairs"] += 1
-                continue
-            tally["valid_pairs"] += 1
-            if not same[k]:
-                tally["unconnectable"] += 1
-                continue
-            if not crosses_window(robot, ws, A[k], B[k]):
-                tally["connectable_straight_line_valid"] += 1
-                continue
-            chk = check_path(robot, np.array([A[k], B[k]]), ws)
-            if chk.valid or chk.first_violation.kind != "window":   # cannot happen: a second opinion
-                raise RuntimeError(f"{robot.name}: straight-line checks disagree for pair {tally['drawn_pairs']}")
-            tally["kept"] += 1
-            pairs.append(np.array([A[k], B[k]]))
-            if len(pairs) == count:
-                break
-    return np.array(pairs).reshape(-1, 2, robot.n), tally
 
 
 # ---- one robot -----------------------------------------------------------------------------
@@ -241,7 +98,11 @@ def bench_robot(name: str, n_pairs: int, seed: int, log=None, max_draws: int = M
         row = {"success": bool(res.success), "time_s": wall, "status": res.status,
                "straight_line_valid": bool(res.straight_line_valid),
                "straight_length": float(np.linalg.norm(b - a))}
+        naive = naive_plan(robot, ws, a, b, TIME_LIMIT, seed + k)
+        row["naive_returned"] = naive is not None
+        row["naive_through_window"] = naive is not None and certify_path(ws, naive).violation is not None
         if res.success:
+            row["proven"] = bool(res.proven)
             chk = check_path(robot, res.path, ws)     # our own dense re-check
             ends = bool(np.allclose(res.path[0], a, atol=1e-12) and np.allclose(res.path[-1], b, atol=1e-12))
             row.update({"waypoints": int(len(res.path)), "length": float(res.length),
@@ -251,6 +112,8 @@ def bench_robot(name: str, n_pairs: int, seed: int, log=None, max_draws: int = M
         rows.append(row)
         if log and (k + 1) % 10 == 0:
             log(f"  {k + 1}/{len(pairs)} planned")
+    separated = _separated_queries(robot, ws, conn, n_pairs, seed + 7, max_draws, log)
+    pose = _pose_goal_queries(robot, ws, n_pairs, seed + 11)
     ok = [r for r in rows if r["success"]]
     times = [r["time_s"] for r in rows]
     ok_times = [r["time_s"] for r in ok]
@@ -275,6 +138,10 @@ def bench_robot(name: str, n_pairs: int, seed: int, log=None, max_draws: int = M
         "dense_valid": sum(r["dense_valid"] for r in ok),
         "returned_paths": len(ok),
         "failures": [r["status"] for r in rows if not r["success"]],
+        "proven_rate": (sum(r["proven"] for r in ok) / len(ok)) if ok else math.nan,
+        "naive_returned": sum(r["naive_returned"] for r in rows),
+        "naive_through_window": sum(r["naive_through_window"] for r in rows),
+        **separated, **pose,
         "note": None,
     }
     if len(pairs) < n_pairs:
@@ -297,6 +164,64 @@ def bench_robot(name: str, n_pairs: int, seed: int, log=None, max_draws: int = M
         "summary": summary,
         "runs": rows,
     }
+
+
+def _separated_queries(robot, ws, conn, count: int, seed: int, max_draws: int, log=None) -> dict:
+    """Valid pairs in different free components (no joint path exists, by the grid labelling):
+    how many plan() answers before planning, and how fast."""
+    pairs, _ = draw_pairs(robot, ws, conn, count, seed, max_draws=max_draws, kind="separated")
+    times, answered, reasons = [], 0, {}
+    for k, (a, b) in enumerate(pairs):
+        t = time.perf_counter()
+        res = plan(robot, a, b, ws, planner=PLANNER, time_limit=TIME_LIMIT, seed=seed + k)
+        times.append(time.perf_counter() - t)
+        if res.success:
+            raise RuntimeError(f"{robot.name}: plan() joined a pair the grid labelling calls separated")
+        if res.separation is not None:
+            answered += 1
+            reasons[res.separation.kind] = reasons.get(res.separation.kind, 0) + 1
+    if log:
+        log(f"  {len(pairs)} separated queries, {answered} answered before planning")
+    return {"separated_pairs": len(pairs), "verdict_rate": answered / len(pairs) if len(pairs) else math.nan,
+            "verdict_time_median_s": statistics.median(times) if times else math.nan,
+            "verdict_time_max_s": max(times) if times else math.nan, "verdict_kinds": reasons}
+
+
+def _pose_goal_queries(robot, ws, count: int, seed: int) -> dict:
+    """Pose goals whose given configuration lies across the wrist window from the start (so the
+    nearest IK branch is on the far side) while a branch on the start's side exists: the goal keeps
+    the start's arm joints (q2, q3: the same free cell of the arm's windows) and draws a new q1 and
+    wrist with the wrist joint on the other side, and its wrist twin (q4 ± π, −q5, q6 ± π) must be
+    valid.  plan() must find and pick a branch on the start's side."""
+    wrist = [w for w in ws.windows if w.kind == "wrist" and w.is_interval]
+    if not wrist:
+        return {"pose_goal_pairs": 0, "pose_goal_success_rate": math.nan, "pose_goal_proven": 0}
+    j = wrist[0].joint
+    rng = np.random.default_rng(seed)
+    Q = robot.random_configurations(40 * count, seed=seed)
+    starts = Q[(ws.which(Q) < 0) & (Q[:, j] < 0)]
+    ok = proven = m = 0
+    failures = []
+    for a in starts:
+        if m == count:
+            break
+        g = a.copy()
+        free_joints = [0] + list(range(j - 1, robot.n))            # q1 and the wrist
+        lo, hi = robot.chain.lower, robot.chain.upper
+        g[free_joints] = rng.uniform(lo[free_joints], hi[free_joints])
+        g[j] = rng.uniform(0.2, hi[j])
+        if ws.contains(g) or not any(not ws.contains(f) for f in wrist_twins(robot, g, robot.fk(g))):
+            continue                     # only queries with a valid branch on the start's side
+        m += 1
+        res = plan(robot, a, goal_pose=robot.fk(g), windows=ws, planner=PLANNER, time_limit=TIME_LIMIT, seed=seed + m)
+        if res.success and np.abs(robot.fk(res.path[-1]) - robot.fk(g)).max() < 1e-8 \
+                and check_path(robot, res.path, ws).valid:
+            ok += 1
+            proven += bool(res.proven)
+        else:
+            failures.append(res.status)
+    return {"pose_goal_pairs": m, "pose_goal_success_rate": ok / m if m else math.nan, "pose_goal_proven": proven,
+            "pose_goal_failures": failures}
 
 
 def _targets(results: list[dict]) -> list[dict]:
@@ -367,6 +292,18 @@ def format_report(R: dict) -> str:
                      f"{s['min_sigma_median']:.4g}")
             L.append(f"   dense re-check (check_path, 0.1° step, ends at start/goal): "
                      f"{s['dense_valid']}/{s['returned_paths']} valid")
+        if s["returned_paths"]:
+            L.append(f"   proven clear of every window (interval proof per segment): "
+                     f"{100 * s['proven_rate']:.0f} % of returned paths")
+        L.append(f"   naive OMPL set-up (pointwise validity, default motion resolution): {s['naive_returned']} paths "
+                 f"returned, {s['naive_through_window']} of them through a singular window")
+        if s["separated_pairs"]:
+            L.append(f"   separated queries: {s['verdict_rate'] * 100:.0f} % of {s['separated_pairs']} answered before "
+                     f"planning {s['verdict_kinds']}, median {1e3 * s['verdict_time_median_s']:.1f} ms, max "
+                     f"{1e3 * s['verdict_time_max_s']:.1f} ms (was the full {TIME_LIMIT:g} s limit)")
+        if s["pose_goal_pairs"]:
+            L.append(f"   pose goals across the wrist window: {100 * s['pose_goal_success_rate']:.0f} % of "
+                     f"{s['pose_goal_pairs']} planned to a branch on the start's side ({s['pose_goal_proven']} proven)")
         if s["failures"]:
             L.append(f"   failures: {s['failures']}")
         L.append("")
