@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -15,6 +14,7 @@ import sympy as sp
 
 
 from kin.errors import ConfigurationError
+from kin.output import write_output
 from kin.singular.expression import ExpressionError, parse_expression
 
 from planning.errors import WindowError
@@ -201,12 +201,9 @@ class WindowSet:
                 "windows": [w.to_dict() for w in self.windows]}
 
     def save(self, path: str | Path) -> Path:
-        """Write JSON atomically."""
-        path = Path(path)
-        tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-        tmp.write_text(json.dumps(self.to_dict(), indent=2) + "\n", encoding="utf-8")
-        tmp.replace(path)
-        return path
+        """Write JSON with :func:`kin.output.write_output` (atomic; never replaces anything but a
+        regular file; missing parent directories are created)."""
+        return write_output(path, json.dumps(self.to_dict(), indent=2, allow_nan=False) + "\n")
 
     @classmethod
     def load(cls, path: str | Path) -> "WindowSet":
