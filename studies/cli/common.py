@@ -44,8 +44,9 @@ def bounded(lo: float, hi: float, unit: str, open_low: bool = False, integer: bo
         except ValueError:
             raise argparse.ArgumentTypeError(f"{text!r} is not {'an integer' if integer else 'a number'}") from None
         if not (math.isfinite(v) and (v > lo if open_low else v >= lo) and v <= hi):
-            raise argparse.ArgumentTypeError(f"{text} is outside the allowed range {'(' if open_low else '['}{lo:g}, "
-                                             f"{hi:g}] {unit}".rstrip())
+            rng = (f"{'(' if open_low else '['}{lo:g}, {hi:g}]" if math.isfinite(hi)
+                   else f"{'>' if open_low else '≥'} {lo:g}, finite")
+            raise argparse.ArgumentTypeError(f"{text} is outside the allowed range {rng} {unit}".rstrip())
         return v
     return parse
 

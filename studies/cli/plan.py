@@ -12,9 +12,10 @@ import numpy as np
 import kin
 from kin.output import write_output
 from planning.ompl.planner import plan
-from planning.validate import DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, check_path
+from planning.validate import (DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, STEP_ANGLE_RANGE, STEP_LENGTH_RANGE,
+                               check_path)
 
-from studies.cli.common import (MAX_SIGMA, MAX_TIME_LIMIT, bounded, dump, joint_values, output_file, seed,
+from studies.cli.common import (MAX_SIGMA, CliInputError, MAX_TIME_LIMIT, bounded, dump, joint_values, output_file, seed,
                                 windows_from_args)
 from studies.units import joint_units
 
@@ -112,6 +113,13 @@ def cmd_check_path(args, load_robot) -> int:
     c = robot.chain
     step_angle = DEFAULT_STEP_ANGLE if args.step is None else args.step * c.angle_scale
     step_length = DEFAULT_STEP_LENGTH if args.step is None else args.step * c.length_scale
+    rev = c.revolute_mask
+    for kind, used, step, (lo, hi), scale, unit in (
+            ("revolute", rev.any(), step_angle, STEP_ANGLE_RANGE, c.angle_scale, c.angle_unit),
+            ("prismatic", (~rev).any(), step_length, STEP_LENGTH_RANGE, c.length_scale, c.length_unit)):
+        if used and not lo <= step <= hi:
+            raise CliInputError(f"--step {args.step:g} is outside the allowed range [{lo / scale:.3g}, "
+                                f"{hi / scale:.3g}] {unit} for the {kind} joints of {c.name}")
     chk = check_path(robot, P, ws, sigma_min=args.sigma_floor, step_angle=step_angle, step_length=step_length)
     fv = chk.first_violation
     out = {"valid": chk.valid,
