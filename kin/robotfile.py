@@ -17,6 +17,7 @@ import numpy as np
 from kin.chain import (ANGLE_UNITS, CONVENTIONS, DH_FIELDS, JOINT_TYPES, LENGTH_FIELDS,
                     LENGTH_UNITS, NAME_RE, TASK_ROWS, Chain, Joint, Parameter, Placement)
 from kin.errors import ChainError, RobotFileError, UnknownRobotError
+from kin.output import write_output
 from kin.transforms import rigidity_defect
 
 ROBOT_DIR = Path(__file__).parent / "robots"
@@ -326,12 +327,9 @@ def dumps_robot(chain: Chain) -> str:
 
 
 def save_robot(chain: Chain, path: str | Path) -> Path:
-    """Write ``chain`` as a robot file (atomically: a temporary file, then rename)."""
-    path = Path(path)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(dumps_robot(chain), encoding="utf-8")
-    tmp.replace(path)
-    return path
+    """Write ``chain`` as a robot file with :func:`kin.output.write_output` (atomic; never replaces
+    anything but a regular file; missing parent directories are created)."""
+    return write_output(path, dumps_robot(chain))
 
 
 def with_units(chain: Chain, length_unit: str | None = None, angle_unit: str | None = None) -> Chain:

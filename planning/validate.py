@@ -7,6 +7,11 @@ two checked states) and checks every state for joint limits, singular windows an
 and the rows for continuity (largest joint step between consecutive rows).  It reports the first
 violation — the row index where it happens (for a state inside a segment, the segment's first row)
 — and the smallest σ_min along the path.
+
+The dense states are generated and checked in chunks (:func:`dense_chunks`), so memory stays flat
+in the path's length; the steps are bounded (:data:`STEP_ANGLE_RANGE`, :data:`STEP_LENGTH_RANGE`)
+and the number of states is budgeted (:data:`MAX_CHECK_STATES`): a check that would need more is
+refused up front, never left to run for hours.
 """
 from __future__ import annotations
 
@@ -21,6 +26,11 @@ from planning.windows import WindowSet
 
 DEFAULT_STEP_ANGLE = math.radians(0.1)   # rad
 DEFAULT_STEP_LENGTH = 1e-4               # m
+#: allowed check steps: revolute joints (rad) and prismatic joints (m)
+STEP_ANGLE_RANGE = (1e-6, math.radians(5.0))
+STEP_LENGTH_RANGE = (1e-7, 1e-2)
+#: the most dense states one check evaluates (σ_min runs at about 10⁶ states/s)
+MAX_CHECK_STATES = 20_000_000
 KINDS = ("nonfinite", "continuity", "limits", "window", "sigma_min")
 
 
@@ -69,6 +79,28 @@ def densify(path: np.ndarray, revolute: np.ndarray, step_angle: float = DEFAULT_
     return (np.vstack([Q, P[-1]]), np.append(seg, len(P) - 1), np.append(frac, 0.0))
 
 
+def _counts(P: np.ndarray, revolute: np.ndarray, step_angle: float, step_length: float) -> np.ndarray:
+    """Sub-steps per segment (M − 1,), int64: no joint moves more than its step between states."""
+    steps = np.where(revolute, step_angle, step_length)
+    d = np.abs(np.diff(P, axis=0)) / steps
+    return np.maximum(np.ceil(d.max(axis=1, initial=0.0)), 1).astype(np.int64)
+
+
+def dense_chunks(path: np.ndarray, counts: np.ndarray, chunk: int):
+    """The dense states of :func:`densify`, ``chunk`` at a time: yields (Q (k, n), segment (k,),
+    fraction (k,)) in path order, the last row included, with memory independent of the path length."""
+    P = np.asarray(path, dtype=float)
+    starts = np.concatenate([[0], np.cumsum(counts)])        # global index of each row's state
+    total = int(starts[-1]) + 1
+    per_row = np.append(counts, 1)                            # the last row is one state of its own
+    for a in range(0, total, chunk):
+        k = np.arange(a, min(a + chunk, total), dtype=np.int64)
+        seg = np.searchsorted(starts, k, side="right") - 1
+        frac = (k - starts[seg]) / per_row[seg]
+        nxt = np.minimum(seg + 1, len(P) - 1)
+        yield P[seg] + frac[:, None] * (P[nxt] - P[seg]), seg, frac
+
+
 def _label(i: int, f: float) -> str:
     return f"row {i}" if f == 0 else f"between rows {i} and {i + 1} (at {f:.3f} of the segment)"
 
@@ -85,8 +117,13 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
     P = np.asarray(path, dtype=float)
     if P.ndim != 2 or P.shape[1] != chain.n or len(P) == 0:
         raise ConfigurationError(f"path has shape {P.shape}; expected (M, {chain.n}) with M ≥ 1 for {chain.name}")
-    if not (step_angle > 0 and step_length > 0):
-        raise ConfigurationError(f"check steps must be positive, got {step_angle} rad and {step_length} m")
+    rev = chain.revolute_mask
+    for used, step, (lo, hi), unit in ((rev.any(), step_angle, STEP_ANGLE_RANGE, "rad"),
+                                       ((~rev).any(), step_length, STEP_LENGTH_RANGE, "m")):
+        if used and not (lo <= step <= hi):
+            raise ConfigurationError(f"check step {step:g} {unit} is outside the allowed range [{lo:g}, {hi:g}] {unit}")
+    if sigma_min is not None and not (math.isfinite(sigma_min) and sigma_min >= 0):
+        raise ConfigurationError(f"σ_min floor {sigma_min} must be a finite number ≥ 0")
     first: Violation | None = None
 
     def note(v: Violation) -> None:
@@ -105,29 +142,42 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
         i, j = np.unravel_index(np.argmax(steps > max_step), steps.shape)
         note(Violation(int(i), "continuity", f"joint {j + 1} moves {steps[i, j]:.6g} between rows {i} and {i + 1}; "
                                              f"allowed {max_step:.6g}"))
-    Q, seg, frac = densify(P, chain.revolute_mask, step_angle, step_length)
+    counts = _counts(P, rev, step_angle, step_length) if len(P) > 1 else np.zeros(0, np.int64)
+    total = int(counts.sum()) + 1
+    if total > MAX_CHECK_STATES:
+        raise ConfigurationError(f"the dense check would evaluate {total:.3g} states; at most {MAX_CHECK_STATES:.3g} "
+                                 "(use a larger check step)")
     lo, hi = chain.lower - limit_tol, chain.upper + limit_tol
-    out = (Q < lo) | (Q > hi)
-    if out.any():
-        k = int(np.argmax(out.any(axis=1)))
-        j = int(np.argmax(out[k]))
-        note(Violation(int(seg[k]), "limits", f"joint {j + 1} = {Q[k, j]:.6g} outside [{chain.lower[j]:.6g}, "
-                                              f"{chain.upper[j]:.6g}] {_label(int(seg[k]), float(frac[k]))}"))
-    if windows is not None and windows.windows:
-        which = windows.which(Q)
-        inside = which >= 0
-        if inside.any():
-            k = int(np.argmax(inside))
-            w = windows.windows[int(which[k])]
-            note(Violation(int(seg[k]), "window", f"inside window '{w.name}' {_label(int(seg[k]), float(frac[k]))}"))
-    sig = np.empty(len(Q))
-    for s in range(0, len(Q), chunk):
-        sig[s:s + chunk] = robot.sigma_min(Q[s:s + chunk])
-    kmin = int(np.argmin(sig))
-    if sigma_min is not None:
-        low = sig < sigma_min
-        if low.any():
-            k = int(np.argmax(low))
-            note(Violation(int(seg[k]), "sigma_min", f"σ_min = {sig[k]:.3g} < {sigma_min:.3g} "
-                                                     f"{_label(int(seg[k]), float(frac[k]))}"))
-    return PathCheck(first is None, first, float(sig[kmin]), int(seg[kmin]), max_step_seen, int(len(Q)))
+    found: dict[str, Violation] = {}
+    sig_min, sig_seg = math.inf, -1
+    for Q, seg, frac in dense_chunks(P, counts, chunk):
+        if "limits" not in found:
+            out = (Q < lo) | (Q > hi)
+            if out.any():
+                k = int(np.argmax(out.any(axis=1)))
+                j = int(np.argmax(out[k]))
+                found["limits"] = Violation(int(seg[k]), "limits", f"joint {j + 1} = {Q[k, j]:.6g} outside "
+                                            f"[{chain.lower[j]:.6g}, {chain.upper[j]:.6g}] "
+                                            f"{_label(int(seg[k]), float(frac[k]))}")
+        if "window" not in found and windows is not None and windows.windows:
+            which = windows.which(Q)
+            inside = which >= 0
+            if inside.any():
+                k = int(np.argmax(inside))
+                w = windows.windows[int(which[k])]
+                found["window"] = Violation(int(seg[k]), "window", f"inside window '{w.name}' "
+                                            f"{_label(int(seg[k]), float(frac[k]))}")
+        sig = robot.sigma_min(Q)
+        kmin = int(np.argmin(sig))
+        if sig[kmin] < sig_min:
+            sig_min, sig_seg = float(sig[kmin]), int(seg[kmin])
+        if sigma_min is not None and "sigma_min" not in found:
+            low = sig < sigma_min
+            if low.any():
+                k = int(np.argmax(low))
+                found["sigma_min"] = Violation(int(seg[k]), "sigma_min", f"σ_min = {sig[k]:.3g} < {sigma_min:.3g} "
+                                               f"{_label(int(seg[k]), float(frac[k]))}")
+    for kind in ("limits", "window", "sigma_min"):
+        if kind in found:
+            note(found[kind])
+    return PathCheck(first is None, first, sig_min, sig_seg, max_step_seen, total)

@@ -10,6 +10,8 @@ import math
 import numpy as np
 import sympy as sp
 
+from kin.singular.expression import parse_expression
+
 from planning.windows import Window
 
 
@@ -29,7 +31,7 @@ class _Barrier:
             self.empty = w.epsilon is None or w.epsilon < 0
             self.m = buffer * max(w.epsilon or 0.0, 0.0)
             q = sp.symbols(f"q1:{n + 1}", real=True)
-            expr = sp.sympify(w.expr, locals={f"q{i + 1}": q[i] for i in range(n)})
+            expr = parse_expression(w.expr, n, f"window {w.name!r}")
             self._g = sp.lambdify([q], expr, modules="math")
             grads = [sp.diff(expr, q[j]) for j in self.joints]
             self._dg = sp.lambdify([q], grads, modules="math")

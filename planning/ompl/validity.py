@@ -14,6 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from kin.singular.expression import parse_expression
+
 from planning.errors import PlanningError
 
 MAX_MOTION_STEP_ANGLE = math.radians(1.0)
@@ -62,7 +64,7 @@ class JointSpaceChecker:
                 if w.is_interval:
                     self._intervals.append((w.joint, list(w.intervals)))
                 else:
-                    expr = sp.sympify(w.expr, locals={f"q{i + 1}": q[i] for i in range(self.n)})
+                    expr = parse_expression(w.expr, self.n, f"window {w.name!r}")
                     self._predicates.append((sp.lambdify([q], expr, modules="math"), float(w.epsilon)))
                     self._predicate_windows.append(w)
         # the motion step: a fifth of the narrowest window, at most 1° / 1 mm

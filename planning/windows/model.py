@@ -4,7 +4,7 @@ See :mod:`planning.windows` for what a window is."""
 from __future__ import annotations
 
 import json
-import os
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -13,9 +13,28 @@ import numpy as np
 import sympy as sp
 
 
+from kin.errors import ConfigurationError
+from kin.output import write_output
+from kin.singular.expression import ExpressionError, parse_expression
+
 from planning.errors import WindowError
 
 METHODS = ("margin", "sigma_min", "manipulability", "learned")
+#: the largest joint count a windows file may declare
+MAX_JOINTS = 64
+
+
+def _batch(Q, n: int) -> tuple[np.ndarray, bool]:
+    """One configuration (n,) or a batch (N, n) of real numbers → ((N, n) float array, single?).
+
+    Any other shape, or values that are not real numbers (strings, complex), raise
+    :class:`~kin.errors.ConfigurationError` instead of being reshaped or cast."""
+    arr = np.asarray(Q)
+    if arr.dtype.kind not in "biuf":
+        raise ConfigurationError(f"configurations must be real numbers, got an array of {arr.dtype}")
+    if not ((arr.ndim == 1 and arr.shape[0] == n) or (arr.ndim == 2 and arr.shape[1] == n)):
+        raise ConfigurationError(f"configurations have shape {arr.shape}; expected ({n},) or (N, {n})")
+    return (arr.astype(float, copy=False).reshape(-1, n), arr.ndim == 1)
 
 
 @dataclass
@@ -51,16 +70,14 @@ class Window:
         """The factor at a batch (N, n) → (N,)."""
         if self._g is None:
             q = sp.symbols(f"q1:{self.n + 1}", real=True)
-            expr = sp.sympify(self.expr, locals={f"q{i + 1}": q[i] for i in range(self.n)})
+            expr = parse_expression(self.expr, self.n, f"window {self.name!r}")
             f = sp.lambdify([q], expr, modules="numpy")
             self._g = lambda Q: np.broadcast_to(np.asarray(f(Q.T), dtype=float), (Q.shape[0],))
         return self._g(Q)
 
     def contains(self, Q) -> np.ndarray:
         """Boolean (N,) — or a bool for one configuration — True inside the window."""
-        arr = np.asarray(Q, dtype=float)
-        single = arr.ndim == 1
-        Q2 = arr.reshape(-1, self.n)
+        Q2, single = _batch(Q, self.n)
         if self.is_interval:
             x = Q2[:, self.joint]
             inside = np.zeros(len(Q2), bool)
@@ -73,7 +90,7 @@ class Window:
     def distance_out(self, Q) -> np.ndarray:
         """Signed margin (N,): > 0 outside (how far, in joint units for intervals, in |g| − ε
         otherwise), ≤ 0 inside."""
-        Q2 = np.asarray(Q, dtype=float).reshape(-1, self.n)
+        Q2, _ = _batch(Q, self.n)
         if self.is_interval:
             x = Q2[:, self.joint]
             d = np.full(len(Q2), np.inf)
@@ -93,18 +110,62 @@ class Window:
 
     @classmethod
     def from_dict(cls, d: dict, n: int, where: str = "windows") -> "Window":
+        """A window from its JSON form (:meth:`to_dict`), validated: ``expr`` is parsed with the safe
+        grammar of :mod:`kin.singular.expression` (never evaluated as Python); the width, ε and the
+        interval bounds must be finite, ε and the width ≥ 0, every interval [lo, hi] with lo ≤ hi."""
+        if not isinstance(d, dict):
+            raise WindowError(f"{where}: a window entry must be a JSON object, got {type(d).__name__}")
+        need = ("name", "kind", "expr", "joints", "width", "method")
+        missing = [k for k in need if k not in d] + ([] if "intervals" in d or "epsilon" in d else ["epsilon"])
+        if missing:
+            raise WindowError(f"{where}: window entry lacks {missing[0]}; needs name, kind, expr, joints, width, "
+                              "method and intervals or epsilon")
+        name = d["name"]
+        label = f"{where}: window {name!r}"
+        for k in ("name", "kind", "expr", "method"):
+            if not isinstance(d[k], str):
+                raise WindowError(f"{label}: {k} must be a string, got {type(d[k]).__name__}")
+        if d["method"] not in METHODS:
+            raise WindowError(f"{label}: method {d['method']!r} unknown; allowed: {', '.join(METHODS)}")
+        joints = d["joints"]
+        if (not isinstance(joints, list) or not joints
+                or not all(isinstance(j, int) and not isinstance(j, bool) and 1 <= j <= n for j in joints)):
+            raise WindowError(f"{label}: joints must be a non-empty list of joint numbers 1…{n}, got {joints!r}")
+
+        def number(v, what: str) -> float:
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise WindowError(f"{label}: {what} must be a finite number, got {v!r}")
+            return float(v)
+
+        width = number(d["width"], "width")
+        if width < 0:
+            raise WindowError(f"{label}: width {width} must be ≥ 0 (rad or m)")
         try:
-            ivs = d.get("intervals")
-            w = cls(name=str(d["name"]), kind=str(d["kind"]), expr=str(d["expr"]),
-                    joints=tuple(int(j) for j in d["joints"]), width=float(d["width"]), method=str(d["method"]),
-                    n=n, intervals=None if ivs is None else [(float(a), float(b)) for a, b in ivs],
-                    epsilon=None if ivs is not None else float(d["epsilon"]), detail=dict(d.get("detail", {})))
-        except (KeyError, TypeError, ValueError) as e:
-            raise WindowError(f"{where}: window entry is incomplete or malformed ({e}); needs name, kind, expr, "
-                              "joints, width, method and intervals or epsilon") from None
-        if not all(1 <= j <= n for j in w.joints):
-            raise WindowError(f"{where}: window {w.name!r} names joints {w.joints} of a {n}-joint robot")
-        return w
+            parse_expression(d["expr"], n, f"{label}: expr")
+        except ExpressionError as e:
+            raise WindowError(str(e)) from None
+        intervals = epsilon = None
+        if "intervals" in d and d["intervals"] is not None:
+            ivs = d["intervals"]
+            if not isinstance(ivs, list) or not all(isinstance(iv, list) and len(iv) == 2 for iv in ivs):
+                raise WindowError(f"{label}: intervals must be a list of [lo, hi] pairs")
+            if len(joints) != 1:
+                raise WindowError(f"{label}: an interval window names exactly one joint, got {joints}")
+            intervals = []
+            for k, (lo, hi) in enumerate(ivs):
+                lo, hi = number(lo, f"intervals[{k}][0]"), number(hi, f"intervals[{k}][1]")
+                if lo > hi:
+                    raise WindowError(f"{label}: intervals[{k}] = [{lo}, {hi}] is reversed; write [lo, hi]")
+                intervals.append((lo, hi))
+        else:
+            epsilon = number(d.get("epsilon"), "epsilon")
+            if epsilon < 0:
+                raise WindowError(f"{label}: epsilon {epsilon} must be ≥ 0")
+        detail = d.get("detail", {})
+        if not isinstance(detail, dict):
+            raise WindowError(f"{label}: detail must be a JSON object")
+        return cls(name=name, kind=d["kind"], expr=d["expr"], joints=tuple(joints), width=width,
+                   method=d["method"], n=n, intervals=intervals, epsilon=epsilon, detail=dict(detail))
 
 
 @dataclass
@@ -117,7 +178,7 @@ class WindowSet:
 
     def membership(self, Q) -> np.ndarray:
         """(N, k) boolean: configuration i inside window j."""
-        Q2 = np.asarray(Q, dtype=float).reshape(-1, self.n)
+        Q2, _ = _batch(Q, self.n)
         if not self.windows:
             return np.zeros((len(Q2), 0), bool)
         return np.stack([w.contains(Q2) for w in self.windows], axis=1)
@@ -131,32 +192,35 @@ class WindowSet:
 
     def contains(self, Q) -> np.ndarray | bool:
         """True where a configuration is inside any window."""
-        arr = np.asarray(Q, dtype=float)
-        inside = self.membership(arr).any(axis=1)
-        return bool(inside[0]) if arr.ndim == 1 else inside
+        Q2, single = _batch(Q, self.n)
+        inside = self.membership(Q2).any(axis=1)
+        return bool(inside[0]) if single else inside
 
     def to_dict(self) -> dict:
         return {"robot": self.robot, "n": self.n, "units": "SI (rad, m)",
                 "windows": [w.to_dict() for w in self.windows]}
 
     def save(self, path: str | Path) -> Path:
-        """Write JSON atomically."""
-        path = Path(path)
-        tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-        tmp.write_text(json.dumps(self.to_dict(), indent=2) + "\n", encoding="utf-8")
-        tmp.replace(path)
-        return path
+        """Write JSON with :func:`kin.output.write_output` (atomic; never replaces anything but a
+        regular file; missing parent directories are created)."""
+        return write_output(path, json.dumps(self.to_dict(), indent=2, allow_nan=False) + "\n")
 
     @classmethod
     def load(cls, path: str | Path) -> "WindowSet":
+        """Read a windows JSON file (:meth:`save`), validating every entry (:meth:`Window.from_dict`)."""
         path = Path(path)
         try:
             d = json.loads(path.read_text(encoding="utf-8"))
         except FileNotFoundError:
             raise WindowError(f"{path}: no such windows file") from None
-        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
-            raise WindowError(f"{path}: not a readable JSON windows file ({e})") from None
-        if not isinstance(d, dict) or not isinstance(d.get("windows"), list) or not isinstance(d.get("n"), int):
+        except (OSError, UnicodeDecodeError, ValueError, RecursionError) as e:
+            raise WindowError(f"{path}: not a readable JSON windows file ({str(e).splitlines()[0] if str(e) else type(e).__name__})") from None
+        if not isinstance(d, dict) or not isinstance(d.get("windows"), list):
             raise WindowError(f"{path}: needs fields robot, n (integer) and windows (list)")
-        return cls(robot=str(d.get("robot", "")), n=d["n"],
-                   windows=[Window.from_dict(w, d["n"], str(path)) for w in d["windows"]])
+        n = d.get("n")
+        if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_JOINTS:
+            raise WindowError(f"{path}: n must be the robot's number of joints, an integer 1…{MAX_JOINTS}, got {n!r}")
+        robot = d.get("robot", "")
+        if not isinstance(robot, str):
+            raise WindowError(f"{path}: robot must be a string")
+        return cls(robot=robot, n=n, windows=[Window.from_dict(w, n, str(path)) for w in d["windows"]])

@@ -1,6 +1,7 @@
 """Helpers shared by the ``rmt`` commands: number parsing, windows from the command line, JSON."""
 from __future__ import annotations
 
+import argparse
 import json
 import math
 from typing import Sequence
@@ -11,10 +12,51 @@ import kin
 
 
 EXIT_OK, EXIT_FAIL, EXIT_USAGE = 0, 1, 2
+#: seeds are 32-bit (numpy and OMPL)
+MAX_SEED = 2**32 - 1
+#: the longest planning time a command accepts, s
+MAX_TIME_LIMIT = 3600.0
+#: the largest σ_min threshold or floor (SI; no arm of human size comes near it)
+MAX_SIGMA = 1e3
 
 
 class CliInputError(kin.RmtError):
     """Bad command-line input (the CLI exits with code 2)."""
+
+
+def seed(text: str) -> int:
+    """argparse type of ``--seed``: an integer 0 … 2³²−1."""
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer (allowed: 0 to {MAX_SEED})") from None
+    if not 0 <= v <= MAX_SEED:
+        raise argparse.ArgumentTypeError(f"{v} is outside the allowed range 0 to {MAX_SEED}")
+    return v
+
+
+def bounded(lo: float, hi: float, unit: str, open_low: bool = False, integer: bool = False):
+    """An argparse type: a finite number in [lo, hi] (or (lo, hi] with ``open_low``), ``unit`` named
+    in the error."""
+    def parse(text: str):
+        try:
+            v = int(text) if integer else float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not {'an integer' if integer else 'a number'}") from None
+        if not (math.isfinite(v) and (v > lo if open_low else v >= lo) and v <= hi):
+            rng = (f"{'(' if open_low else '['}{lo:g}, {hi:g}]" if math.isfinite(hi)
+                   else f"{'>' if open_low else '≥'} {lo:g}, finite")
+            raise argparse.ArgumentTypeError(f"{text} is outside the allowed range {rng} {unit}".rstrip())
+        return v
+    return parse
+
+
+def output_file(arg: str | None):
+    """Check an output path (``--out``, ``--plot``) before any work: see :func:`kin.output.check_output`."""
+    if arg is not None:
+        from kin.output import check_output
+        check_output(arg)
+    return arg
 
 
 def numbers(values: Sequence[str], what: str) -> list[float]:
@@ -41,13 +83,25 @@ def joint_values(robot: kin.Robot, values: Sequence[str], what: str = "joint val
     return robot.chain.to_si(q)
 
 
-def factor_margins(chain: kin.Chain, analysis, margin: float) -> list[float]:
+def factor_margins(chain: kin.Chain, analysis, margin: float, what: str = "--margin") -> list[float]:
     """One margin in file units → SI per factor: an angle for factors with a revolute joint, a length
-    for purely prismatic ones."""
+    for purely prismatic ones.  An angle margin is at most π rad (half a turn); a length margin at
+    most the largest prismatic joint range."""
     if not (math.isfinite(margin) and margin >= 0):
-        raise CliInputError(f"--margin {margin} must be a finite number ≥ 0 (robot file units)")
-    return [margin * (chain.angle_scale if any(chain.joints[j - 1].is_revolute for j in f.joints)
-                      else chain.length_scale) for f in analysis.factors]
+        raise CliInputError(f"{what} {margin} must be a finite number ≥ 0 (robot file units)")
+    out = []
+    for f in analysis.factors:
+        if any(chain.joints[j - 1].is_revolute for j in f.joints):
+            m, top, unit = margin * chain.angle_scale, math.pi, chain.angle_unit
+            scale = chain.angle_scale
+        else:
+            m, unit, scale = margin * chain.length_scale, chain.length_unit, chain.length_scale
+            top = max(j.limits[1] - j.limits[0] for j in chain.joints if not j.is_revolute)
+        if m > top:
+            raise CliInputError(f"{what} {margin:g} {unit} is too wide for the {f.kind} window; allowed: "
+                                f"0 to {top / scale:.6g} {unit}")
+        out.append(m)
+    return out
 
 
 def windows_from_args(robot: kin.Robot, margin: float | None, sigma_min: float | None, seed: int = 0):

@@ -7,7 +7,7 @@ import math
 import kin
 from planning.follow import MODES
 
-from studies.cli.common import dump
+from studies.cli.common import bounded, dump, output_file
 from studies.drawing import pen_robot, run_drawing_study
 
 
@@ -19,8 +19,7 @@ def _ranges(d: dict) -> str:
 
 
 def cmd_drawing(args, load_robot) -> int:
-    if args.margin is not None and not (math.isfinite(args.margin) and args.margin >= 0):
-        raise kin.RmtError(f"--margin {args.margin} must be a finite number ≥ 0 (degrees)")
+    output_file(args.plot)
     robot = load_robot("ur3_homework_pen") if "ur3_homework_pen" in kin.bundled_robots() else pen_robot()
     margin = math.radians(5.0 if args.margin is None else args.margin)
     res = run_drawing_study(robot, window_margin=margin, modes=args.modes or MODES, series=bool(args.plot))
@@ -74,7 +73,7 @@ def add_commands(add) -> None:
     sp = add("drawing", cmd_drawing, "the homework's drawing task from a singular start: naive resolved rate "
                                      "vs the OSQP path follower")
     sp.add_argument("--plot", metavar="FILE.png", help="write joint speeds and tracking errors against time")
-    sp.add_argument("--margin", type=float, metavar="DEG", help="half-width of the singular windows in degrees "
+    sp.add_argument("--margin", type=bounded(0, 45, "degrees"), metavar="DEG", help="half-width of the singular windows in degrees "
                                                                 "(default 5)")
     sp.add_argument("--modes", nargs="+", choices=MODES, metavar="MODE",
                     help=f"QP follower task modes to run (default: all of {', '.join(MODES)})")

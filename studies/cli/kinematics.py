@@ -9,7 +9,7 @@ import numpy as np
 import kin
 from kin.transforms import make_transform, rpy_to_matrix
 
-from studies.cli.common import EXIT_FAIL, EXIT_OK, dump, joint_values, numbers
+from studies.cli.common import EXIT_FAIL, EXIT_OK, dump, joint_values, numbers, seed
 from studies.study import kinematics as ks
 from studies.units import joint_units, pose_to_file, unit_names
 
@@ -153,4 +153,4 @@ def add_commands(add) -> None:
     sp.add_argument("--rpy", nargs=3, metavar=("R", "P", "Y"),
                     help="fixed-axis roll-pitch-yaw, file angle unit (omit for position-only IK)")
     sp.add_argument("--q0", nargs="+", metavar="Q", help="initial guess, file units")
-    sp.add_argument("--seed", type=int, default=0, help="seed of the random starts (default 0)")
+    sp.add_argument("--seed", type=seed, default=0, help="seed of the random starts (default 0)")

@@ -5,16 +5,18 @@ from __future__ import annotations
 import csv
 import io
 import math
-import os
 from pathlib import Path
 
 import numpy as np
 
 import kin
+from kin.output import write_output
 from planning.ompl.planner import plan
-from planning.validate import DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, check_path
+from planning.validate import (DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, STEP_ANGLE_RANGE, STEP_LENGTH_RANGE,
+                               check_path)
 
-from studies.cli.common import dump, joint_values, windows_from_args
+from studies.cli.common import (MAX_SIGMA, CliInputError, MAX_TIME_LIMIT, bounded, dump, joint_values, output_file, seed,
+                                windows_from_args)
 from studies.units import joint_units
 
 
@@ -31,17 +33,14 @@ def _num(x):
 
 
 def write_path_csv(robot, path_si: np.ndarray, out: str | Path) -> Path:
-    """A joint path as CSV in the robot file's units (header q1..qn), written atomically."""
-    out = Path(out)
+    """A joint path as CSV in the robot file's units (header q1..qn), written with
+    :func:`kin.output.write_output`."""
     buf = io.StringIO()
     w = csv.writer(buf)
     w.writerow([f"q{i + 1}" for i in range(robot.n)])
     for row in robot.chain.from_si(path_si):
         w.writerow([repr(float(x)) for x in row])
-    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
-    tmp.write_text(buf.getvalue(), encoding="utf-8")
-    tmp.replace(out)
-    return out
+    return write_output(out, buf.getvalue())
 
 
 def read_path_csv(robot, path: str | Path) -> np.ndarray:
@@ -74,6 +73,7 @@ def read_path_csv(robot, path: str | Path) -> np.ndarray:
 
 
 def cmd_plan(args, load_robot) -> int:
+    output_file(args.out)
     robot = load_robot(args.robot)
     start = joint_values(robot, args.start, "--start")
     goal = joint_values(robot, args.goal, "--goal")
@@ -113,6 +113,13 @@ def cmd_check_path(args, load_robot) -> int:
     c = robot.chain
     step_angle = DEFAULT_STEP_ANGLE if args.step is None else args.step * c.angle_scale
     step_length = DEFAULT_STEP_LENGTH if args.step is None else args.step * c.length_scale
+    rev = c.revolute_mask
+    for kind, used, step, (lo, hi), scale, unit in (
+            ("revolute", rev.any(), step_angle, STEP_ANGLE_RANGE, c.angle_scale, c.angle_unit),
+            ("prismatic", (~rev).any(), step_length, STEP_LENGTH_RANGE, c.length_scale, c.length_unit)):
+        if used and not lo <= step <= hi:
+            raise CliInputError(f"--step {args.step:g} is outside the allowed range [{lo / scale:.3g}, "
+                                f"{hi / scale:.3g}] {unit} for the {kind} joints of {c.name}")
     chk = check_path(robot, P, ws, sigma_min=args.sigma_floor, step_angle=step_angle, step_length=step_length)
     fv = chk.first_violation
     out = {"valid": chk.valid,
@@ -132,10 +139,11 @@ def cmd_check_path(args, load_robot) -> int:
 
 def _window_args(sp) -> None:
     g = sp.add_mutually_exclusive_group()
-    g.add_argument("--margin", type=float, metavar="X",
+    g.add_argument("--margin", type=bounded(0, math.inf, "(robot file units)"), metavar="X",
                    help="windows of this half-width, file units (angle for revolute factors, length otherwise)")
-    g.add_argument("--sigma-min", type=float, metavar="S", help="windows from a σ_min threshold (SI)")
-    sp.add_argument("--seed", type=int, default=0, help="seed (default 0)")
+    g.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S",
+                   help="windows from a σ_min threshold (SI)")
+    sp.add_argument("--seed", type=seed, default=0, help="seed (default 0)")
 
 
 def add_commands(add) -> None:
@@ -145,7 +153,8 @@ def add_commands(add) -> None:
     sp.add_argument("--goal", nargs="+", required=True, metavar="Q", help="goal configuration, file units")
     _window_args(sp)
     sp.add_argument("--planner", default="RRTConnect", help="OMPL planner (RRTConnect, RRT*, PRM*, BIT*, ...)")
-    sp.add_argument("--time-limit", type=float, default=2.0, metavar="S", help="planning time limit, s (default 2)")
+    sp.add_argument("--time-limit", type=bounded(0, MAX_TIME_LIMIT, "s", open_low=True), default=2.0,
+                    metavar="S", help=f"planning time limit, s (default 2, at most {MAX_TIME_LIMIT:g})")
     sp.add_argument("--objective", default="none", choices=("none", "length", "singularity"),
                     help="optimisation objective for optimising planners (default none)")
     sp.add_argument("--out", metavar="PATH.csv", help="write the path as CSV (robot file units)")
@@ -153,6 +162,7 @@ def add_commands(add) -> None:
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
     sp.add_argument("path", metavar="PATH.csv", help="one configuration per row, robot file units")
     _window_args(sp)
-    sp.add_argument("--sigma-floor", type=float, metavar="S", help="fail where σ_min (SI) drops below S")
-    sp.add_argument("--step", type=float, metavar="D",
+    sp.add_argument("--sigma-floor", type=bounded(0, MAX_SIGMA, "(SI)"), metavar="S",
+                    help="fail where σ_min (SI) drops below S")
+    sp.add_argument("--step", type=bounded(0, math.inf, "(robot file units)", open_low=True), metavar="D",
                     help="largest joint change between checked states, file units (default 0.1° / 0.1 mm)")

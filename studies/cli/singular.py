@@ -2,11 +2,16 @@
 the (functional) workspace of a robot."""
 from __future__ import annotations
 
+import math
+
 import kin
 from kin.singular import analyse_singularities
 from planning.windows import WindowSet, build_windows
 
-from studies.cli.common import dump, factor_margins
+from studies.cli.common import MAX_SIGMA, bounded, dump, factor_margins, output_file, seed
+
+#: the most joint-space samples ``rmt workspace`` takes
+MAX_SAMPLES = 10_000_000
 from studies.units import unit_names
 
 
@@ -79,6 +84,7 @@ def _windows_text(robot: kin.Robot, ws: WindowSet) -> str:
 
 
 def cmd_windows(args, load_robot) -> int:
+    output_file(args.out)
     robot = load_robot(args.robot)
     c = robot.chain
     analysis = analyse_singularities(robot, seed=args.seed)
@@ -114,6 +120,7 @@ def cmd_windows(args, load_robot) -> int:
 
 def cmd_workspace(args, load_robot) -> int:
     from design.workspace import compute_workspace
+    output_file(args.plot)
     robot = load_robot(args.robot)
     ws = compute_workspace(robot, n_samples=args.samples, method=args.method, seed=args.seed,
                            threshold=args.sigma_min)
@@ -147,23 +154,23 @@ def add_commands(add) -> None:
     """Register the commands with the CLI's ``add(name, func, help)`` helper."""
     sp = add("singularities", cmd_singularities, "the singular set: factors of det J, named, with their solutions")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
-    sp.add_argument("--seed", type=int, default=0, help="seed of the zero-set samples (default 0)")
+    sp.add_argument("--seed", type=seed, default=0, help="seed of the zero-set samples (default 0)")
     sp = add("windows", cmd_windows, "singular error windows around every factor of the singular set")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
     g = sp.add_mutually_exclusive_group(required=True)
-    g.add_argument("--margin", type=float, metavar="X",
+    g.add_argument("--margin", type=bounded(0, math.inf, "(robot file units)"), metavar="X",
                    help="half-width in file units (angle unit for factors with a revolute joint, length unit otherwise)")
-    g.add_argument("--sigma-min", type=float, metavar="S",
+    g.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S",
                    help="dexterity threshold: σ_min of the Jacobian in SI units stays ≥ S outside the windows")
     g.add_argument("--learned", action="store_true",
                    help="the thesis's method: widths from a learned IK model's error at singular poses")
     sp.add_argument("--out", metavar="FILE.json", help="save the windows (SI units) to a JSON file")
-    sp.add_argument("--seed", type=int, default=0, help="seed (default 0)")
+    sp.add_argument("--seed", type=seed, default=0, help="seed (default 0)")
     sp = add("workspace", cmd_workspace, "sampled workspace: volume, reach, near-singular share, plot")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
-    sp.add_argument("--samples", type=int, default=100_000, help="number of joint-space samples (default 100000)")
+    sp.add_argument("--samples", type=bounded(1, MAX_SAMPLES, "", integer=True), default=100_000, help="number of joint-space samples (default 100000)")
     sp.add_argument("--method", default="sobol", choices=("sobol", "random", "grid"), help="sampling (default sobol)")
-    sp.add_argument("--seed", type=int, default=0, help="seed (default 0)")
-    sp.add_argument("--sigma-min", type=float, metavar="S", help="near-singular threshold on σ_min (SI; default: "
+    sp.add_argument("--seed", type=seed, default=0, help="seed (default 0)")
+    sp.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S", help="near-singular threshold on σ_min (SI; default: "
                                                                  "5 %% of the median)")
     sp.add_argument("--plot", metavar="FILE.png", help="write top/front/side/isometric views")

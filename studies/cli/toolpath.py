@@ -15,7 +15,7 @@ from planning.toolpath import ToolPathError, load_toolpath
 from planning.toolpath.check import KINDS, ToolPathReport, validate_toolpath
 from planning.windows import WindowSet
 
-from studies.cli.common import jsonable, numbers, windows_from_args
+from studies.cli.common import MAX_SIGMA, bounded, jsonable, numbers, output_file, seed, windows_from_args
 from studies.units import joint_units, unit_names
 
 #: bundled example tool paths: ``rmt validate-toolpath ROBOT NAME`` finds ``NAME.toml`` or ``NAME.csv`` here
@@ -168,6 +168,7 @@ def report_text(report: ToolPathReport, robot: kin.Robot) -> str:
 
 
 def cmd_validate_toolpath(args, load_robot) -> int:
+    output_file(args.plot)
     robot = load_robot(args.robot)
     c = robot.chain
     tp = load_toolpath(toolpath_file(args.toolpath), robot)
@@ -211,17 +212,18 @@ def add_commands(add) -> None:
                     help="tool path: .csv (waypoints) or .toml (segments), in the robot file's units; or the name "
                          "of a bundled example (" + ", ".join(bundled_toolpaths()) + ")")
     g = sp.add_mutually_exclusive_group()
-    g.add_argument("--margin", type=float, metavar="X",
+    g.add_argument("--margin", type=bounded(0, math.inf, "(robot file units)"), metavar="X",
                    help="singular windows of this half-width, file units (angle for revolute factors, length otherwise)")
-    g.add_argument("--sigma-min", type=float, metavar="S",
+    g.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S",
                    help="singular windows from a σ_min threshold (SI), and S as a σ_min floor")
     g.add_argument("--windows", metavar="FILE.json", help="singular windows saved by `rmt windows --out`")
-    sp.add_argument("--sigma-floor", type=float, metavar="S", help="fail where σ_min (SI) drops below S")
+    sp.add_argument("--sigma-floor", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S",
+                    help="fail where σ_min (SI) drops below S")
     sp.add_argument("--start", nargs="+", metavar="Q",
                     help="configuration to solve the first waypoint from (the start branch), file units")
-    sp.add_argument("--seed", type=int, default=0, help="seed of the global IK and of the windows (default 0)")
-    sp.add_argument("--tol-position", type=float, metavar="E", help="reach tolerance, file length unit (default 1e-6 m)")
-    sp.add_argument("--tol-orientation", type=float, metavar="E",
+    sp.add_argument("--seed", type=seed, default=0, help="seed of the global IK and of the windows (default 0)")
+    sp.add_argument("--tol-position", type=bounded(0, math.inf, "(file length unit)", open_low=True), metavar="E", help="reach tolerance, file length unit (default 1e-6 m)")
+    sp.add_argument("--tol-orientation", type=bounded(0, math.inf, "(file angle unit)", open_low=True), metavar="E",
                     help="orientation tolerance, file angle unit (default 1e-6 rad)")
     sp.add_argument("--max-step", nargs="+", metavar="D",
                     help="largest joint change between waypoints before a branch jump, file units; one value or "

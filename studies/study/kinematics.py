@@ -14,12 +14,12 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import tomllib
 from pathlib import Path
 
 import kin
-from kin.chain import DH_FIELDS, LENGTH_FIELDS
+from kin.output import write_output
+from kin.chain import DH_FIELDS, LENGTH_FIELDS, NAME_RE
 from kin.compiled import numpy_measures
 
 from studies.units import jacobian_to_file, joint_units, pose_to_file, unit_names
@@ -28,14 +28,84 @@ STUDY_DIR = Path(__file__).parent.parent
 DEFAULT_STUDY = STUDY_DIR / "default_study.toml"
 STUDY_FIELDS = ("name", "title", "robot", "configurations", "singularities", "windows", "workspace", "plan")
 CONFIG_FIELDS = ("label", "q")
+#: the largest seed a study accepts (OMPL and numpy take 32-bit seeds)
+MAX_SEED = 2**32 - 1
+#: the optional sections: key → (type, default (None: required), lowest, highest, meaning)
+SECTIONS: dict[str, dict[str, tuple]] = {
+    "singularities": {},
+    "windows": {"margin": (float, None, 0.0, None, "half-width of every window, robot file units")},
+    "workspace": {"samples": (int, 100_000, 1, 10_000_000, "joint-space samples"),
+                  "seed": (int, 0, 0, MAX_SEED, "sampling seed")},
+    "plan": {"start": (list, None, None, None, "start configuration, robot file units"),
+             "goal": (list, None, None, None, "goal configuration, robot file units"),
+             "planner": (str, "RRTConnect", None, None, "OMPL planner name"),
+             "time_limit": (float, 2.0, 0.001, 600.0, "planning time limit, s"),
+             "seed": (int, 0, 0, MAX_SEED, "OMPL seed"),
+             "objective": (str, "none", None, None, "none | length | singularity")},
+}
 
 
 class StudyFileError(kin.RmtError):
     """A study file is missing or invalid."""
 
 
+def _value(path, section: str, key: str, v, spec: tuple):
+    kind, _, lo, hi, meaning = spec
+    fld = f"{path}: {section}.{key}"
+    if kind is float and isinstance(v, (int, float)) and not isinstance(v, bool):
+        v = float(v)
+        if not math.isfinite(v):
+            raise StudyFileError(f"{fld}: must be a finite number ({meaning})")
+    elif kind is int and isinstance(v, int) and not isinstance(v, bool):
+        pass
+    elif kind is str and isinstance(v, str):
+        return v
+    elif kind is list and isinstance(v, list):
+        if not all(isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in v):
+            raise StudyFileError(f"{fld}: must be a list of finite numbers ({meaning})")
+        return [float(x) for x in v]
+    else:
+        raise StudyFileError(f"{fld}: {v!r} is not {'an' if kind is int else 'a'} "
+                             f"{ {float: 'number', int: 'integer', str: 'string', list: 'list'}[kind]} ({meaning})")
+    if (lo is not None and v < lo) or (hi is not None and v > hi):
+        rng = f"[{lo:g}, {hi:g}]" if hi is not None else f"≥ {lo:g}"
+        raise StudyFileError(f"{fld}: {v:g} is outside the allowed range {rng} ({meaning})")
+    return v
+
+
+def _section(path, name: str, raw) -> dict:
+    """A validated optional section with its defaults filled in."""
+    if not isinstance(raw, dict):
+        raise StudyFileError(f"{path}: {name}: must be a table ([{name}])")
+    spec = SECTIONS[name]
+    unknown = [k for k in raw if k not in spec]
+    if unknown:
+        raise StudyFileError(f"{path}: {name}.{unknown[0]}: unknown field; allowed: {', '.join(spec) or 'none'}")
+    out = {}
+    for key, sp in spec.items():
+        if key in raw:
+            out[key] = _value(path, name, key, raw[key], sp)
+        elif sp[1] is None:
+            raise StudyFileError(f"{path}: {name}.{key}: missing ({sp[4]})")
+        else:
+            out[key] = sp[1]
+    return out
+
+
+def _robot_reference(path: Path, robot: str) -> str:
+    """A bundled name stays a name; a path is taken relative to the study file's directory."""
+    if robot in kin.bundled_robots() and "/" not in robot and not robot.endswith(".toml"):
+        return robot
+    p = Path(robot).expanduser()
+    return str(p if p.is_absolute() else path.parent / p)
+
+
 def load_study(path: str | Path) -> dict:
-    """Read and validate a study file; returns {name, title, robot, configurations: [(label, q_file)]}."""
+    """Read and validate a study file (format: README, "Study files"); returns {name, title, robot,
+    configurations: [(label, q_file)], and each optional section with its defaults filled in}.
+
+    Everything is checked before anything runs: unknown fields, types, ranges, the robot (a bundled
+    name or a robot file relative to the study file) and every configuration's length."""
     path = Path(path)
     try:
         doc = tomllib.loads(path.read_text(encoding="utf-8"))
@@ -49,6 +119,13 @@ def load_study(path: str | Path) -> dict:
     for k in ("name", "robot"):
         if not isinstance(doc.get(k), str):
             raise StudyFileError(f"{path}: {k}: missing or not a string")
+    if not NAME_RE.match(doc["name"]):
+        raise StudyFileError(f"{path}: name: {doc['name']!r} must match [a-z0-9_]+ (it names the output directory)")
+    if not isinstance(doc.get("title", ""), str):
+        raise StudyFileError(f"{path}: title: must be a string")
+    robot = _robot_reference(path, doc["robot"])
+    chain = kin.load_chain(robot)
+    units = ", ".join(chain.angle_unit if j.is_revolute else chain.length_unit for j in chain.joints)
     configs = doc.get("configurations", [])
     if not isinstance(configs, list) or not configs:
         raise StudyFileError(f"{path}: configurations: needs at least one [[configurations]] table")
@@ -61,13 +138,25 @@ def load_study(path: str | Path) -> dict:
         if (not isinstance(q, list) or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in q)
                 or not all(math.isfinite(x) for x in q)):
             raise StudyFileError(f"{path}: {fld}.q: must be a list of finite numbers (robot file units)")
-        out.append((str(c.get("label", f"config {i + 1}")), [float(x) for x in q]))
-    study = {"name": doc["name"], "title": doc.get("title", ""), "robot": doc["robot"], "configurations": out}
-    for section in ("singularities", "windows", "workspace", "plan"):
+        if len(q) != chain.n:
+            raise StudyFileError(f"{path}: {fld}.q: {len(q)} values; {chain.name} has {chain.n} joints ({units})")
+        label = c.get("label", f"config {i + 1}")
+        if not isinstance(label, str):
+            raise StudyFileError(f"{path}: {fld}.label: must be a string")
+        out.append((label, [float(x) for x in q]))
+    study = {"name": doc["name"], "title": doc.get("title", ""), "robot": robot, "configurations": out}
+    for section in SECTIONS:
         if section in doc:
-            if not isinstance(doc[section], dict):
-                raise StudyFileError(f"{path}: {section}: must be a table ([{section}])")
-            study[section] = doc[section]
+            study[section] = _section(path, section, doc[section])
+    if "plan" in study:
+        for what in ("start", "goal"):
+            q = study["plan"][what]
+            if len(q) != chain.n:
+                raise StudyFileError(f"{path}: plan.{what}: {len(q)} values; {chain.name} has {chain.n} joints "
+                                     f"({units})")
+        if study["plan"]["objective"] not in ("none", "length", "singularity"):
+            raise StudyFileError(f"{path}: plan.objective: {study['plan']['objective']!r} unknown; allowed: none, "
+                                 "length, singularity")
     return study
 
 
@@ -138,11 +227,6 @@ def run_kinematics_study(study: dict) -> dict:
 
 
 def write_results(results: dict, out_dir: str | Path) -> Path:
-    """Write ``results.json`` into ``out_dir`` atomically; returns its path."""
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    path = out_dir / "results.json"
-    tmp = out_dir / f".results.json.{os.getpid()}.tmp"
-    tmp.write_text(json.dumps(results, indent=2) + "\n", encoding="utf-8")
-    tmp.replace(path)
-    return path
+    """Write ``results.json`` (strict JSON: NaN and infinities are refused) into ``out_dir`` with
+    :func:`kin.output.write_output`; returns its path."""
+    return write_output(Path(out_dir) / "results.json", json.dumps(results, indent=2, allow_nan=False) + "\n")

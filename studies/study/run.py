@@ -1,65 +1,49 @@
-"""The bundled study (``rmt study``, ``make run``): kinematics, the singular set, its windows, the
+"""Running a study (``rmt study``, ``make run``): kinematics, the singular set, its windows, the
 functional workspace and a planned joint path around the windows, for one machine.
 
-A study file holds the robot, the configurations to evaluate (see :mod:`studies.study.kinematics`)
-and optional sections, all in the robot file's units:
+The study file's format (every key, unit and default) is in the README ("Study files") and is
+validated by :func:`studies.study.kinematics.load_study` before anything runs.
 
-    [singularities]                      # factor det J and name the factors
-    [windows]
-    margin = 0.05                        # half-width: angle unit for revolute factors
-    [workspace]
-    samples = 200000
-    seed = 0
-    [plan]
-    start = [...]                        # joint values
-    goal = [...]
-    planner = "RRTConnect"
-    time_limit = 2.0
-    seed = 0
-
-:func:`run_study` computes everything and writes ``results.json`` (atomically) plus
-``workspace.png`` and ``plan.csv`` into the output directory.
+:func:`run_study` writes ``results.json``, ``workspace.png`` and ``plan.csv`` into a fresh hidden
+directory beside ``out_dir`` and moves it into place only when the study has finished
+(:func:`kin.output.fresh_directory`), so an interrupted or failed run never leaves new files beside
+old results.  ``results.json`` is strict JSON: a value that is not finite is written as ``null``.
 """
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
 
 import kin
+from kin.output import fresh_directory
 
+from studies.cli.common import jsonable
 from studies.study import kinematics as ks
-from studies.cli.common import factor_margins
-from studies.study.kinematics import StudyFileError
 
-
-def _field(section: dict, name: str, key: str, kind, default=None):
-    if key not in section:
-        if default is None:
-            raise StudyFileError(f"{name}.{key}: missing")
-        return default
-    v = section[key]
-    if kind is float and isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v):
-        return float(v)
-    if kind is int and isinstance(v, int) and not isinstance(v, bool):
-        return v
-    if kind is str and isinstance(v, str):
-        return v
-    if kind is list and isinstance(v, list) and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):
-        return [float(x) for x in v]
-    raise StudyFileError(f"{name}.{key}: {v!r} is not a valid {kind.__name__}")
+#: the files a run writes (an existing run directory holding anything else is not replaced)
+RUN_FILES = ("results.json", "workspace.png", "plan.csv")
 
 
 def run_study(study: dict, out_dir: str | Path, progress=None) -> dict:
-    """Run every section of a loaded study; returns the results dict (also written to out_dir)."""
+    """Run every section of a loaded study (:func:`~studies.study.kinematics.load_study`); returns the
+    results dict, also written to ``out_dir/results.json`` with the plots.  ``results["ok"]`` is
+    False when the plan section found no path."""
     say = progress or (lambda text: None)
     out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
+    with fresh_directory(out_dir, RUN_FILES) as tmp:
+        results = _run(study, out_dir, tmp, say)
+        results = jsonable(results)
+        ks.write_results(results, tmp)
+    return results
+
+
+def _run(study: dict, out_dir: Path, tmp: Path, say) -> dict:
     say("kinematics")
     results = ks.run_kinematics_study(study)
     robot = kin.load_robot(study["robot"])
     c = robot.chain
+    results["ok"] = True
     analysis = None
     if "singularities" in study or "windows" in study or "plan" in study:
         from kin.singular import analyse_singularities
@@ -71,11 +55,9 @@ def run_study(study: dict, out_dir: str | Path, progress=None) -> dict:
     windows = None
     if "windows" in study:
         from planning.windows import build_windows
-        sec = study["windows"]
-        margin = _field(sec, "windows", "margin", float)
-        if margin < 0:
-            raise StudyFileError(f"windows.margin: {margin} must be ≥ 0 (robot file units)")
-        margins = factor_margins(c, analysis, margin)
+
+        from studies.cli.common import factor_margins
+        margins = factor_margins(c, analysis, study["windows"]["margin"], "windows.margin")
         say("windows")
         windows = build_windows(robot, margin=margins, analysis=analysis)
         results["windows"] = windows.to_dict()
@@ -87,29 +69,26 @@ def run_study(study: dict, out_dir: str | Path, progress=None) -> dict:
         from studies.plots import plot_workspace
         sec = study["workspace"]
         say("workspace")
-        ws = compute_workspace(robot, n_samples=_field(sec, "workspace", "samples", int, 100_000),
-                               seed=_field(sec, "workspace", "seed", int, 0))
+        ws = compute_workspace(robot, n_samples=sec["samples"], seed=sec["seed"])
         results["workspace"] = ws.to_dict()
-        png = plot_workspace(ws, out_dir / "workspace.png", title=f"{c.title or c.name}: functional workspace")
-        results["workspace"]["plot"] = str(png)
+        plot_workspace(ws, tmp / "workspace.png", title=f"{c.title or c.name}: functional workspace")
+        results["workspace"]["plot"] = str(out_dir / "workspace.png")
     if "plan" in study:
         from planning.ompl.planner import plan
 
         from studies.cli.plan import write_path_csv
         sec = study["plan"]
-        start = c.to_si(_field(sec, "plan", "start", list))
-        goal = c.to_si(_field(sec, "plan", "goal", list))
-        for what, q in (("start", start), ("goal", goal)):
-            if len(q) != c.n:
-                raise StudyFileError(f"plan.{what}: {len(q)} values; {c.name} has {c.n} joints")
+        start, goal = c.to_si(sec["start"]), c.to_si(sec["goal"])
         say("plan")
-        res = plan(robot, start, goal, windows, planner=_field(sec, "plan", "planner", str, "RRTConnect"),
-                   time_limit=_field(sec, "plan", "time_limit", float, 2.0), seed=_field(sec, "plan", "seed", int, 0))
+        res = plan(robot, start, goal, windows, planner=sec["planner"], time_limit=sec["time_limit"],
+                   seed=sec["seed"], objective=sec["objective"])
         d = res.to_dict()
         d["path"] = c.from_si(res.path).tolist() if res.success else []
         d["straight_line_length"] = float(np.linalg.norm(goal - start))
         if res.success:
-            d["csv"] = str(write_path_csv(robot, res.path, out_dir / "plan.csv"))
+            write_path_csv(robot, res.path, tmp / "plan.csv")
+            d["csv"] = str(out_dir / "plan.csv")
+        else:
+            results["ok"] = False
         results["plan"] = d
-    ks.write_results(results, out_dir)
     return results

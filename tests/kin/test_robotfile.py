@@ -507,18 +507,32 @@ def test_save_robot_atomic(tmp_path):
 
 
 def test_save_robot_failure_leaves_old_file(tmp_path, monkeypatch):
-    """A write that dies half-way must not touch the existing file (it goes to a temporary first)."""
-    import pathlib
+    """A write that dies half-way must not touch the existing file (it goes to a temporary first,
+    which is removed)."""
+    import os
+
+    from kin.output import OutputError
     path = tmp_path / "arm.toml"
     path.write_text(GOOD)
     c = loads_robot(edit(GOOD, "a = 100.0", "a = 120.0"))
-    real_write = pathlib.Path.write_text
+    real_fdopen = os.fdopen
 
-    def half_write(self, data, *args, **kwargs):
-        real_write(self, data[: len(data) // 2], *args, **kwargs)
-        raise OSError("disk full")
-    monkeypatch.setattr(pathlib.Path, "write_text", half_write)
-    with pytest.raises(OSError):
+    class HalfFile:
+        def __init__(self, fh):
+            self.fh = fh
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            self.fh.close()
+
+        def write(self, data):
+            self.fh.write(data[: len(data) // 2])
+            raise OSError(28, "No space left on device")
+    monkeypatch.setattr(os, "fdopen", lambda fd, mode: HalfFile(real_fdopen(fd, mode)))
+    with pytest.raises(OutputError, match="No space left on device"):
         save_robot(c, path)
     monkeypatch.undo()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["arm.toml"]      # the temporary file is gone
     assert path.read_text() == GOOD

@@ -166,7 +166,36 @@ def test_bad_shapes_raise(fanuc, bad):
         check_path(robot, bad, ws)
 
 
-def test_non_positive_steps_raise(fanuc):
+def test_steps_outside_their_range_raise(fanuc):
     robot, ws = fanuc
-    with pytest.raises(ConfigurationError, match="positive"):
-        check_path(robot, np.array([_base()]), ws, step_angle=0.0)
+    for step in (0.0, -1.0, 1e-300, 1e308, math.inf, math.nan):
+        with pytest.raises(ConfigurationError, match=r"outside the allowed range \[1e-06, 0.0872665\] rad"):
+            check_path(robot, np.array([_base()]), ws, step_angle=step)
+    # the fanuc has no prismatic joint: its length step is not used, hence not checked
+    assert check_path(robot, np.array([_base()]), ws, step_length=1e308).valid in (True, False)
+
+
+def test_state_budget_is_enforced_before_any_work(fanuc):
+    robot, ws = fanuc
+    P = _base() + np.outer(np.arange(22) % 2, np.full(6, 0.5))  # 21 segments of 0.5 rad on every joint
+    # at 1e-6 rad: 21 × 500 000 + 1 = 10 500 001 states, within the budget of 2·10⁷ …
+    assert check_path(robot, P[:2], ws, step_angle=1e-6).checked_states == 500_001
+    # … at 1e-6 rad over 21 segments of 1 rad: 2.1·10⁷ + 1 states, refused at once
+    with pytest.raises(ConfigurationError, match=r"would evaluate 2.1e\+07 states; at most 2e\+07"):
+        check_path(robot, _base() + np.outer(np.arange(22) % 2, np.full(6, 1.0)) * [1, 0.1, 0.1, 0.1, 0.1, 0.1],
+                   ws, step_angle=1e-6)
+
+
+def test_chunked_check_equals_the_dense_one(fanuc):
+    """Chunks of 7 states give the same verdict, minimum and count as one chunk holding everything,
+    and the count is the closed form Σ ceil(max |Δq| / step) + 1."""
+    robot, ws = fanuc
+    rng = np.random.default_rng(3)
+    P = _base() + rng.uniform(-0.02, 0.02, (6, 6)).cumsum(axis=0)
+    one = check_path(robot, P, ws, chunk=10**9)
+    many = check_path(robot, P, ws, chunk=7)
+    assert one == many
+    expected = int(np.ceil(np.abs(np.diff(P, axis=0)).max(axis=1) / DEFAULT_STEP_ANGLE).sum()) + 1
+    assert one.checked_states == expected
+    Q, seg, frac = densify(P, robot.chain.revolute_mask)
+    assert one.min_sigma == pytest.approx(robot.sigma_min(Q).min(), rel=1e-12)
