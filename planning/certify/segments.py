@@ -21,6 +21,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
+from kin.singular.expression import joint_symbols, parse_expression
+
 from planning.certify.intervals import IntervalError, compile_interval
 
 __all__ = ["SegmentViolation", "PathProof", "certify_path", "MAX_DEPTH", "MAX_PIECES"]
@@ -60,13 +62,13 @@ class PathProof:
 
 
 def _symbols(n: int) -> tuple[sp.Symbol, ...]:
-    return tuple(sp.symbols(f"q1:{n + 1}", real=True))
+    return joint_symbols(n)
 
 
 def window_expression(window) -> sp.Expr:
-    """The sympy expression of a non-interval window's factor g (in q1…qn)."""
-    q = _symbols(window.n)
-    return sp.sympify(window.expr, locals={f"q{i + 1}": q[i] for i in range(window.n)})
+    """The sympy expression of a non-interval window's factor g (in q1…qn), parsed by the safe
+    grammar of :mod:`kin.singular.expression`."""
+    return parse_expression(window.expr, window.n, f"window {window.name!r}")
 
 
 def _interval_window(window, P: np.ndarray) -> SegmentViolation | None:
