@@ -12,6 +12,13 @@ The dense states are generated and checked in chunks (:func:`dense_chunks`), so 
 in the path's length; the steps are bounded (:data:`STEP_ANGLE_RANGE`, :data:`STEP_LENGTH_RANGE`)
 and the number of states is budgeted (:data:`MAX_CHECK_STATES`): a check that would need more is
 refused up front, never left to run for hours.
+
+Windows are also decided by proof (``prove=True``, the default): every segment is proven clear of
+every window, or the first state inside one is found, by :func:`planning.certify.certify_path` — a
+sampled check can miss a segment that grazes a window between two states, the proof cannot.  The
+result says how the windows were decided (``windows_check``: ``"proven"``, ``"sampled"`` where the
+proof could not settle a segment, or None without windows); the first window violation is the
+earlier of the proof's and the samples'.
 """
 from __future__ import annotations
 
@@ -22,6 +29,7 @@ import numpy as np
 
 from kin.errors import ConfigurationError
 
+from planning.certify import certify_path
 from planning.windows import WindowSet
 
 DEFAULT_STEP_ANGLE = math.radians(0.1)   # rad
@@ -53,6 +61,7 @@ class PathCheck:
     min_sigma_index: int
     max_step: float
     checked_states: int
+    windows_check: str | None = None     # "proven", "sampled" (not every segment proven) or None (no windows)
 
     def to_dict(self) -> dict:
         d = asdict(self)
@@ -107,8 +116,10 @@ def _label(i: int, f: float) -> str:
 
 def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float | None = None,
                step_angle: float = DEFAULT_STEP_ANGLE, step_length: float = DEFAULT_STEP_LENGTH,
-               max_step: float | None = None, limit_tol: float = 1e-9, chunk: int = 200_000) -> PathCheck:
-    """Check a joint path (M, n), SI units, densely.  See the module docstring.
+               max_step: float | None = None, limit_tol: float = 1e-9, chunk: int = 200_000,
+               prove: bool = True) -> PathCheck:
+    """Check a joint path (M, n), SI units, densely — and the windows by proof unless ``prove`` is
+    False.  See the module docstring.
 
     ``max_step``: largest allowed joint change between consecutive rows (rad or m; None: not checked,
     only reported).  ``sigma_min``: a floor on σ_min of the task Jacobian along the whole path.
@@ -177,7 +188,17 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
                 k = int(np.argmax(low))
                 found["sigma_min"] = Violation(int(seg[k]), "sigma_min", f"σ_min = {sig[k]:.3g} < {sigma_min:.3g} "
                                                f"{_label(int(seg[k]), float(frac[k]))}")
+    windows_check = None
+    if windows is not None and windows.windows:
+        windows_check = "sampled"
+        if prove:
+            proof = certify_path(windows, P)
+            v = proof.violation
+            if v is not None and ("window" not in found or v.segment < found["window"].index):
+                found["window"] = Violation(v.segment, "window", f"inside window '{v.window}' "
+                                            f"{_label(v.segment, v.t)} (proven)")
+            windows_check = "proven" if proof.proven or v is not None else "sampled"
     for kind in ("limits", "window", "sigma_min"):
         if kind in found:
             note(found[kind])
-    return PathCheck(first is None, first, sig_min, sig_seg, max_step_seen, total)
+    return PathCheck(first is None, first, sig_min, sig_seg, max_step_seen, total, windows_check)

@@ -80,11 +80,14 @@ def test_a_graze_between_sampled_states_is_found(fanuc):
     # a sampled check with 17 steps on this segment: q, at its middle, falls halfway between two states
     coarse = np.abs(b - a).max() / 17 * (1 + 1e-9)
     assert coarse < math.radians(2.1)
-    sampled = check_path(robot, np.array([a, b]), ws, None, coarse, 1e-3)
+    sampled = check_path(robot, np.array([a, b]), ws, None, coarse, 1e-3, prove=False)
     proof = certify_path(ws, np.array([a, b]))
     assert proof.violation is not None and ws.contains(proof.violation.q)
     assert abs(proof.violation.t - 0.5) < 0.01
     assert sampled.valid                              # the sampled check misses it: the point of a proof
+    proven = check_path(robot, np.array([a, b]), ws, None, coarse, 1e-3)    # check_path proves by default
+    assert not proven.valid and proven.first_violation.kind == "window" and "(proven)" in proven.first_violation.detail
+    assert proven.windows_check == "proven"
 
 
 def test_interval_windows_are_decided_exactly(fanuc):
