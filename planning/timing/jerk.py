@@ -23,59 +23,67 @@ is scaled by r^(−2/3) (q̈ scales with c, Δt with c^(−1/2)).  The fastest v
 """
 from __future__ import annotations
 
+import math
+import time
+
 import numpy as np
 import scipy.sparse as sps
 from scipy.optimize import linprog
 
 from planning.timing.qp import row_matrix
-from planning.timing.stages import Stages, sample_profile
+from planning.timing.stages import Stages
 from planning.timing.trajectory import BlendedPath, TimingError
 
-__all__ = ["jerk_limit", "jerk_ratio", "PASSES", "LP_TIME_LIMIT"]
+__all__ = ["jerk_limit", "jerk_ratio", "interval_times", "PASSES", "GROW", "BUDGET"]
 
-#: linearisation passes at most (the first one is always feasible and verified)
-PASSES = 4
-#: seconds HiGHS may spend on one LP
-LP_TIME_LIMIT = 60.0
-
-
-def _qdd_rows(st: Stages, bp: BlendedPath) -> tuple[sps.csr_matrix, np.ndarray]:
-    """Q (S·n, K+1) with the samples' q̈ = Q·b (row k·n + j: sample k, joint j), and the samples' s."""
-    ks, kp, ki = st.samples(bp.length)
-    _, d1, d2 = bp.evaluate(ks, kp)
-    h = st.h[ki]
-    th = np.clip((ks - st.s[ki]) / h, 0.0, 1.0)[:, None]
-    alpha = -d1 / (2 * h[:, None]) + d2 * (1 - th)
-    gamma = d1 / (2 * h[:, None]) + d2 * th
-    S, n = d1.shape
-    rows = np.arange(S * n)
-    cols = np.repeat(ki, n)
-    Q = sps.csr_matrix((np.r_[alpha.ravel(), gamma.ravel()], (np.r_[rows, rows], np.r_[cols, cols + 1])),
-                       shape=(S * n, st.K + 1))
-    return Q, ks
+#: linearisation passes at most
+PASSES = 8
+#: after the first pass, b may grow by this factor per pass (a trust region that keeps the rows valid)
+GROW = 1.5
+#: seconds HiGHS may spend on all passes together
+BUDGET = 60.0
 
 
 def _jerk_matrix(st: Stages, bp: BlendedPath, n: int) -> sps.csr_matrix:
-    """D (J, K+1): the changes of the sampled q̈ — from 0 to sample 0, between consecutive samples,
-    from the last sample to 0 — row-major (change m, joint j)."""
-    Q, ks = _qdd_rows(st, bp)
-    S = len(ks)
-    E = sps.diags([np.ones(S), -np.ones(S)], [0, -1], shape=(S + 1, S), format="csr")   # q̈_k − q̈_{k−1}
+    """D (n·(K+2), K+1): the changes of q̈ at the grid points — from 0 to grid point 0, between
+    consecutive grid points, from grid point K back to 0 — row-major (change m, joint j).  q̈ at grid
+    point i < K is the value on the interval starting there (q̈ = q′·a_i + q″·b_i, the piece to the
+    right); at s_K the end of the last interval."""
+    K = st.K
+    s = st.s
+    piece = np.r_[bp.piece_of(s[:-1], "right"), bp.piece_of(s[-1:], "left")]
+    _, d1, d2 = bp.evaluate(s, piece)
+    iv = np.r_[np.arange(K), K - 1]
+    g = 1.0 / (2 * st.h[iv])[:, None]
+    th = np.r_[np.zeros(K), 1.0][:, None]
+    alpha = -d1 * g + d2 * (1 - th)            # coefficient of b_iv
+    gamma = d1 * g + d2 * th                   # coefficient of b_iv+1
+    rows = np.arange((K + 1) * n)
+    cols = np.repeat(iv, n)
+    Q = sps.csr_matrix((np.r_[alpha.ravel(), gamma.ravel()], (np.r_[rows, rows], np.r_[cols, cols + 1])),
+                       shape=((K + 1) * n, K + 1))
+    E = sps.diags([np.ones(K + 1), -np.ones(K + 1)], [0, -1], shape=(K + 2, K + 1), format="csr")
     return (sps.kron(E, sps.identity(n), format="csr") @ Q).tocsr()
 
 
-def _dt_per_change(t: np.ndarray) -> np.ndarray:
+def interval_times(st: Stages, b: np.ndarray) -> np.ndarray:
+    """Δt (K,) of every grid interval, exact for b linear in s: 2h/(√b_i + √b_{i+1})."""
+    sq = np.sqrt(np.maximum(b, 0.0))
+    with np.errstate(divide="ignore"):
+        return 2 * st.h / (sq[:-1] + sq[1:])
+
+
+def _dt_per_change(dt: np.ndarray) -> np.ndarray:
     """Time over which each change of q̈ happens: the first and last intervals for the changes from
-    and back to rest, the interval between the two samples otherwise."""
-    dt = np.diff(t)
+    and back to rest, the interval between the two grid points otherwise."""
     return np.r_[dt[0], dt, dt[-1]]
 
 
-def jerk_ratio(D: sps.csr_matrix, b: np.ndarray, t: np.ndarray, jmax: np.ndarray) -> float:
-    """Largest |Δq̈_j|/(j_max_j·Δt) of profile b with sample times t."""
+def jerk_ratio(D: sps.csr_matrix, b: np.ndarray, dt: np.ndarray, jmax: np.ndarray) -> float:
+    """Largest |Δq̈_j|/(j_max_j·Δt) of profile b with interval times dt."""
     n = len(jmax)
     dq = np.abs(D @ b).reshape(-1, n)
-    return float(np.max(dq / (jmax[None, :] * _dt_per_change(t)[:, None])))
+    return float(np.max(dq / (jmax[None, :] * _dt_per_change(dt)[:, None])))
 
 
 def jerk_limit(st: Stages, b0: np.ndarray, bp: BlendedPath, jmax: np.ndarray) -> tuple[np.ndarray, float]:
@@ -84,15 +92,17 @@ def jerk_limit(st: Stages, b0: np.ndarray, bp: BlendedPath, jmax: np.ndarray) ->
     n = len(jmax)
     A = row_matrix(st)
     fu, fl = np.isfinite(st.up), np.isfinite(st.lo)
-    A_rows = sps.vstack([A[fu], -A[fl]], format="csr")
-    r_rows = np.r_[st.up[fu], -st.lo[fl]]
     D = _jerk_matrix(st, bp, n)
-    bounds = np.c_[np.zeros(st.K + 1), np.minimum(st.ub, b0)]
-    ref = b0
-    t_ref = sample_profile(st, ref, bp)[0]
+    A_ub = sps.vstack([A[fu], -A[fl], D, -D], format="csr")
+    r_rows = np.r_[st.up[fu], -st.lo[fl]]
+    cap = np.minimum(st.ub, b0)
+    ref, grow = b0, 1.0            # first pass: b ≤ b0, the greatest element
     best, best_T, best_r = None, np.inf, np.inf
+    deadline = time.monotonic() + BUDGET
     for _ in range(PASSES):
-        lim = (jmax[None, :] * _dt_per_change(t_ref)[:, None]).ravel()
+        dt_ref = interval_times(st, ref)
+        # b ≤ grow·ref ⇒ every Δt ≥ Δt_ref/√grow: the rows below then hold for the result's own Δt
+        lim = (jmax[None, :] * _dt_per_change(dt_ref)[:, None]).ravel() / math.sqrt(grow)
         # objective: the time Σ 2h/(√b_i + √b_{i+1}) linearised at the reference profile
         sq = np.sqrt(np.maximum(ref, 1e-9 * max(float(ref.max()), 1e-300)))
         w = 2 * st.h / (sq[:-1] + sq[1:]) ** 2
@@ -100,29 +110,33 @@ def jerk_limit(st: Stages, b0: np.ndarray, bp: BlendedPath, jmax: np.ndarray) ->
         g[:-1] -= w / (2 * sq[:-1])
         g[1:] -= w / (2 * sq[1:])
         g /= np.max(np.abs(g))
-        res = linprog(g, A_ub=sps.vstack([A_rows, D, -D], format="csr"), b_ub=np.r_[r_rows, lim, lim],
-                      bounds=bounds, method="highs", options={"time_limit": LP_TIME_LIMIT})
+        hi = np.minimum(cap, grow * ref)
+        left = deadline - time.monotonic()
+        if left <= 0:
+            break
+        res = linprog(g, A_ub=A_ub, b_ub=np.r_[r_rows, lim, lim], bounds=np.c_[np.zeros(st.K + 1), hi],
+                      method="highs", options={"time_limit": left})
         if res.status != 0 or res.x is None:
             if best is not None:
                 break
             raise TimingError(f"the jerk-limit LP failed: {res.message} ({st.K} grid intervals)")
-        b = np.clip(res.x, 0.0, bounds[:, 1])
-        # exact feasibility: the stage rows and the jerk rows are homogeneous in b
-        dq = np.abs(D @ b)
-        b = b * min(st.residual_scale(b), 1.0 / max(float(np.max(dq / lim)), 1.0))
-        try:
-            t = sample_profile(st, b, bp)[0]
-        except TimingError:
+        b = np.clip(res.x, 0.0, hi)
+        # exact feasibility despite HiGHS's tolerance: every row is homogeneous in b
+        b = b * min(st.residual_scale(b), 1.0 / max(float(np.max(np.abs(D @ b) / lim)), 1.0))
+        dt = interval_times(st, b)
+        if not np.all(np.isfinite(dt)):
             break
-        r = jerk_ratio(D, b, t, jmax)
-        if r > 1.0:
-            b = b * r ** (-2.0 / 3.0) * (1 - 1e-12)
-            t = sample_profile(st, b, bp)[0]
-            r = jerk_ratio(D, b, t, jmax)
-        improved = t[-1] < best_T * (1 - 1e-3)
-        if t[-1] < best_T and r <= 1.0 + 1e-9:
-            best, best_T, best_r = b, float(t[-1]), r
-        if not improved:
+        r = jerk_ratio(D, b, dt, jmax)
+        T = float(dt.sum())
+        if T < best_T and r <= 1.0 + 1e-9:
+            improved = T < best_T * (1 - 2e-3)
+            best, best_T, best_r = b, T, r
+            if not improved:
+                break
+        else:
             break
-        ref, t_ref = b, t
+        ref, grow = b, GROW
+    if best is None:
+        raise TimingError(f"the jerk-limit LP left the path at rest over an interval ({st.K} grid intervals): "
+                          "j_max too small for the grid")
     return best, best_r
