@@ -38,7 +38,7 @@ import numpy as np
 from planning.timing.jerk import jerk_limit
 from planning.timing.limits import _limits, dense_ratios
 from planning.timing.qp import solve_qp
-from planning.timing.reachability import reach
+from planning.timing.reachability import BACKENDS, reach
 from planning.timing.shaping import blend_path
 from planning.timing.stages import build_stages, sample_profile
 from planning.timing.trajectory import TimedTrajectory, TimingError
@@ -47,8 +47,9 @@ __all__ = ["time_parameterize", "DEFAULT_INTERVALS", "MAX_INTERVALS", "METHODS"]
 
 #: default grid: this many intervals over the whole path (plus every piece boundary)
 DEFAULT_INTERVALS = 300
-#: largest grid: the QP method has one variable per grid point, the jerk pass one LP of that size
-MAX_INTERVALS = 20000
+#: largest grid (the reachability passes are O(K); the QP and the jerk LP have one variable per grid point
+#: and take seconds beyond a few thousand)
+MAX_INTERVALS = 100_000
 METHODS = ("reach", "qp")
 #: samples per trajectory interval of the dense re-check
 DENSE_PER_INTERVAL = 8
@@ -78,6 +79,8 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
     """
     if method not in METHODS:
         raise TimingError(f"method = {method!r} unknown; allowed: {', '.join(METHODS)}")
+    if backend not in BACKENDS:
+        raise TimingError(f"backend = {backend!r} unknown; allowed: {', '.join(BACKENDS)}")
     bp = blend_path(path, blend, simplify)
     n = bp.n
     vmax = _limits(v_max, n, "v_max")
@@ -91,7 +94,7 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
     if ds is None:
         K = DEFAULT_INTERVALS
     else:
-        if not (isinstance(ds, (int, float)) and math.isfinite(ds) and ds > 0):
+        if not (isinstance(ds, (int, float, np.floating, np.integer)) and math.isfinite(ds) and ds > 0):
             raise TimingError(f"ds = {ds!r} must be a positive finite grid step (rad or m of path length)")
         K = max(1, int(math.ceil(bp.length / ds - 1e-9)))
         if K > MAX_INTERVALS:
