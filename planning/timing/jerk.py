@@ -2,24 +2,30 @@
 minimum-time profile of the speed and acceleration limits (TOPP-RA has none).
 
 What is guaranteed.  The trajectory's s̈ is constant on each grid interval, so q̈ jumps at grid
-points and a continuous jerk does not exist; what is bounded is the jerk the *samples* show: for
-consecutive samples k, k+1 of the returned :class:`~planning.timing.trajectory.TimedTrajectory`
-(grid points and piece boundaries, ``qdd`` the value on the segment starting there) and every joint,
+points (and the blends' q″ jumps at piece boundaries): a continuous jerk does not exist.  What is
+bounded is the jerk of the trajectory sampled at its grid times t_i: for every joint j,
 
-    |q̈_j(t_{k+1}) − q̈_j(t_k)| ≤ j_max_j · (t_{k+1} − t_k),
+    |q̈_j(t_{i+1}⁺) − q̈_j(t_i⁺)| ≤ j_max_j · (t_{i+1} − t_i),
 
-and the same from rest (q̈ = 0) to the first sample and from the last sample back to q̈ = 0 over the
-first and last intervals.  A controller that interpolates the sampled q̈ linearly in time therefore
-sees |q⃛| ≤ j_max.  The speed and acceleration limits still hold on the whole continuous trajectory.
+q̈(t_i⁺) the value on the interval starting at grid point i (at the end, the last interval's), and
+the same from rest (q̈ = 0) to grid point 0 and from the last grid point back to q̈ = 0, over the
+first and last intervals.  A controller that takes the grid samples and interpolates q̈ linearly in
+time sees |q⃛| ≤ j_max.  The bound depends on the grid (a finer grid means shorter Δt for the jump of
+q″ at a blend's ends, so a slower passage there).  The speed and acceleration limits still hold on
+the whole continuous trajectory.
 
-How.  Each sample's q̈ is linear in b (q̈_k = q′_k·a_i + q″_k·b(s_k), a_i = (b_{i+1} − b_i)/(2h_i)),
+How.  The q̈ at a grid point is linear in b (q̈_i = q′_i·a_i + q″_i·b_i, a_i = (b_{i+1} − b_i)/(2h_i)),
 but Δt is not.  With Δt taken from a reference profile b̂, the rows above are linear, and the
-problem — every row of :mod:`planning.timing.stages`, the jerk rows, 0 ≤ b ≤ b̂ — is an LP, solved
-by HiGHS (``scipy.optimize.linprog``) with the objective the time linearised at b̂.  Every feasible
-b is ≤ b̂ pointwise when b̂ is the greatest element of the speed/acceleration problem (the first
-pass), so its own Δt are ≥ those of b̂ and its jerk rows hold a fortiori.  Later passes re-linearise
-at the previous result (its Δt are longer, the rows looser); a result whose own jerk ratio r exceeds 1
-is scaled by r^(−2/3) (q̈ scales with c, Δt with c^(−1/2)).  The fastest verified profile is kept.
+problem — every row of :mod:`planning.timing.stages`, the jerk rows, 0 ≤ b ≤ g·b̂ — is an LP, solved
+by HiGHS (``scipy.optimize.linprog``) with the objective the time linearised at b̂.  The bound
+b ≤ g·b̂ makes every Δt ≥ Δt(b̂)/√g, so with the rows' right-hand sides divided by √g the result
+meets its jerk rows with its own Δt.  The first pass takes b̂ = the speed/acceleration profile and
+g = 1; later passes re-linearise at the previous result with g = :data:`GROW` (a trust region), until
+the duration improves by less than 0.2 % or :data:`PASSES` / :data:`BUDGET` run out.  Each result is
+scaled by one factor ≤ 1 against the LP solver's tolerance (q̈ scales with c, Δt with c^(−1/2)) and
+its jerk ratio re-computed; the fastest verified one is kept.  Near rest (long first and last
+intervals) the bound lets q̈ step by j_max·Δt at once, so the duration can be a little shorter than
+the continuous S-curve's (about 2 % in the one-joint tests).
 """
 from __future__ import annotations
 

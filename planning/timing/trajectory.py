@@ -81,7 +81,7 @@ class TimedTrajectory:
     ``overshoot``: the largest relative excess over the speed or acceleration limits found by the
     dense re-check between samples (0 when none; :func:`planning.timing.limits.dense_ratios`);
     ``j_max``: the jerk limits imposed (None: none) and ``max_jerk_ratio`` the largest
-    |Δq̈_j|/(Δt·j_max_j) between consecutive samples (see :mod:`planning.timing.jerk`).
+    |Δq̈_j|/(Δt·j_max_j) between consecutive grid points (see :mod:`planning.timing.jerk`).
     """
 
     t: np.ndarray
