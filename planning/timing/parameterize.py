@@ -43,13 +43,15 @@ from planning.timing.shaping import blend_path
 from planning.timing.stages import build_stages, sample_profile
 from planning.timing.trajectory import TimedTrajectory, TimingError
 
-__all__ = ["time_parameterize", "DEFAULT_INTERVALS", "MAX_INTERVALS", "METHODS"]
+__all__ = ["time_parameterize", "DEFAULT_INTERVALS", "MAX_INTERVALS", "QP_MAX_INTERVALS", "METHODS"]
 
 #: default grid: this many intervals over the whole path (plus every piece boundary)
 DEFAULT_INTERVALS = 300
-#: largest grid (the reachability passes are O(K); the QP and the jerk LP have one variable per grid point
-#: and take seconds beyond a few thousand)
+#: largest grid of the reachability passes (O(K) work and memory)
 MAX_INTERVALS = 100_000
+#: largest grid of ``method="qp"`` and of the jerk pass (one variable per grid point; OSQP's first-order
+#: iterations and the LP take seconds beyond a few thousand)
+QP_MAX_INTERVALS = 5000
 METHODS = ("reach", "qp")
 #: samples per trajectory interval of the dense re-check
 DENSE_PER_INTERVAL = 8
@@ -70,8 +72,8 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
     simplify : waypoint thinning tolerance (rad or m; 0: off), see :func:`blend_path`.
     method : ``"reach"`` (TOPP-RA's reachability passes, default) or ``"qp"`` (one OSQP QP).
     j_max : optional per-joint jerk limits (scalar or (n,), > 0; rad/s³ or m/s³): the profile is then
-        tightened so that the change of the sampled q̈ between consecutive samples is at most
-        j_max·Δt (see :mod:`planning.timing.jerk` for exactly what is guaranteed).
+        tightened so that the change of q̈ sampled at the grid points is at most j_max·Δt between
+        consecutive ones (see :mod:`planning.timing.jerk` for exactly what is guaranteed).
     backend : for ``method="reach"``: ``"auto"`` (C when a compiler is available), ``"c"`` or ``"numpy"``.
 
     Returns a :class:`TimedTrajectory` sampled at the grid points and piece boundaries (see the module
@@ -97,8 +99,10 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
         if not (isinstance(ds, (int, float, np.floating, np.integer)) and math.isfinite(ds) and ds > 0):
             raise TimingError(f"ds = {ds!r} must be a positive finite grid step (rad or m of path length)")
         K = max(1, int(math.ceil(bp.length / ds - 1e-9)))
-        if K > MAX_INTERVALS:
-            raise TimingError(f"ds = {ds:g} gives {K} grid intervals; at most {MAX_INTERVALS} (choose a larger ds)")
+        most = MAX_INTERVALS if method == "reach" and jmax is None else QP_MAX_INTERVALS
+        if K > most:
+            raise TimingError(f"ds = {ds:g} gives {K} grid intervals; at most {most} with method={method!r}"
+                              f"{' and j_max' if jmax is not None else ''} (choose a larger ds)")
     st = build_stages(bp, K, vmax, amax)
     if method == "qp":
         b, status = solve_qp(st)

@@ -24,11 +24,14 @@ from planning.timing.trajectory import TimingError
 
 __all__ = ["solve_qp", "row_matrix"]
 
+#: seconds OSQP may spend on one solve
+TIME_LIMIT = 120.0
 # rho and scaling chosen on a 1-joint, a blended 3-joint and a dense 6-joint path (fewest iterations);
 # polishing is off (OSQP prints a line when there is nothing to polish) — the scale repair of the
 # caller makes the result exactly feasible instead
 _SETTINGS = dict(verbose=False, eps_abs=1e-7, eps_rel=1e-7, eps_prim_inf=1e-9, eps_dual_inf=1e-9,
-                 max_iter=200000, polishing=False, rho=1.0, scaling=10, adaptive_rho=True)
+                 max_iter=200000, polishing=False, rho=1.0, scaling=10, adaptive_rho=True,
+                 time_limit=TIME_LIMIT)
 
 
 def row_matrix(st: Stages) -> sps.csc_matrix:

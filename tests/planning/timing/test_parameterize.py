@@ -169,6 +169,10 @@ def test_zero_length_and_bad_input():
         time_parameterize(np.array([[0.0], [1.0]]), 1.0, 1.0, ds="0.1")
     with pytest.raises(TimingError, match="ds"):
         time_parameterize(np.array([[0.0], [1.0]]), 1.0, 1.0, ds=1e-9)          # too many intervals
+    with pytest.raises(TimingError, match="ds .* at most 5000 with method='qp'"):
+        time_parameterize(np.array([[0.0], [1.0]]), 1.0, 1.0, ds=1e-4, method="qp")
+    with pytest.raises(TimingError, match="ds .* and j_max"):
+        time_parameterize(np.array([[0.0], [1.0]]), 1.0, 1.0, ds=1e-4, j_max=10.0)
     with pytest.raises(TimingError, match="method"):
         time_parameterize(np.array([[0.0], [1.0]]), 1.0, 1.0, method="toppra")
     with pytest.raises(TimingError, match="backend"):
