@@ -23,6 +23,7 @@ same optimum, found differently, about 100× slower).
 from __future__ import annotations
 
 import numpy as np
+from scipy.optimize import linprog
 
 from planning.timing.native import load_reach
 from planning.timing.stages import Stages
@@ -31,6 +32,8 @@ from planning.timing.trajectory import TimingError
 __all__ = ["reach", "reach_numpy", "half_planes", "BACKENDS"]
 
 BACKENDS = ("auto", "c", "numpy")
+#: stages with more half-planes than this are solved by HiGHS in the numpy passes
+ENUMERATE_MAX = 64
 
 
 def half_planes(st: Stages) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -53,7 +56,14 @@ def half_planes(st: Stages) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndar
 
 def _lp_max_x(a: np.ndarray, c: np.ndarray, r: np.ndarray) -> float:
     """max x over {a·x + c·y ≤ r} (bounded, feasible) by enumerating the vertices: every pair of
-    boundary lines, kept when it satisfies every half-plane up to rounding."""
+    boundary lines, kept when it satisfies every half-plane up to rounding.  A stage with more than
+    :data:`ENUMERATE_MAX` half-planes (a grid interval spanning many path pieces) goes to HiGHS
+    instead (O(m³) enumeration would not fit in memory), exact to its tolerance (1e-7)."""
+    if len(a) > ENUMERATE_MAX:
+        res = linprog([-1.0, 0.0], A_ub=np.c_[a, c], b_ub=r, bounds=[(None, None), (None, None)], method="highs")
+        if res.status != 0:
+            raise TimingError(f"HiGHS failed on a stage of the reachability pass: {res.message}")
+        return float(res.x[0])
     i, j = np.triu_indices(len(a), 1)
     det = a[i] * c[j] - a[j] * c[i]
     ok = np.abs(det) > 1e-14 * (np.abs(a[i] * c[j]) + np.abs(a[j] * c[i]))

@@ -47,6 +47,17 @@ def test_compiled_and_numpy_passes_agree(W, blend, K):
     np.testing.assert_allclose(b_c, b_n, rtol=1e-9, atol=1e-12 * b_n.max())
 
 
+@needs_cc
+def test_compiled_and_numpy_passes_agree_on_a_coarse_grid_over_many_pieces():
+    """Grid intervals spanning dozens of path pieces: stages of hundreds of half-planes (HiGHS in numpy)."""
+    _, st = stages(smooth_path(7, 60), 0.05, 4)
+    assert np.max(np.bincount(st.iv)) > 64
+    hi_c, b_c, _ = reach(st, "c")
+    hi_n, b_n = reach_numpy(st)
+    np.testing.assert_allclose(hi_c, hi_n, rtol=1e-6, atol=1e-9 * hi_n.max())
+    np.testing.assert_allclose(b_c, b_n, rtol=1e-6, atol=1e-9 * b_n.max())
+
+
 def test_without_a_compiler_the_numpy_passes_give_the_same_trajectory(monkeypatch):
     W = smooth_path(3)
     ref = time_parameterize(W, V, 2 * V, backend="numpy")
