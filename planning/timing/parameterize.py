@@ -103,7 +103,7 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
         if K > most:
             raise TimingError(f"ds = {ds:g} gives {K} grid intervals; at most {most} with method={method!r}"
                               f"{' and j_max' if jmax is not None else ''} (choose a larger ds)")
-    st = build_stages(bp, K, vmax, amax)
+    st = build_stages(bp, K, vmax, amax, full_mvc=(method == "qp"))
     if method == "qp":
         b, status = solve_qp(st)
     else:

@@ -32,31 +32,36 @@ __all__ = ["blend_path", "simplify_path"]
 
 def simplify_path(path, tolerance: float) -> np.ndarray:
     """Ramer–Douglas–Peucker in joint space: the fewest waypoints (a subset, ends kept) such that every
-    dropped waypoint lies within ``tolerance`` (rad or m, Euclidean) of the simplified polyline."""
+    dropped waypoint lies within ``tolerance`` (rad or m, Euclidean) of the simplified polyline.  The
+    ranges still to split are processed together, one numpy pass per level of the recursion."""
     W = np.asarray(path, dtype=float)
     if len(W) <= 2 or tolerance <= 0:
         return W.copy()
     keep = np.zeros(len(W), bool)
     keep[0] = keep[-1] = True
-    stack = [(0, len(W) - 1)]
-    while stack:
-        i, j = stack.pop()
-        if j <= i + 1:
-            continue
-        a, b = W[i], W[j]
-        d = b - a
-        L2 = float(d @ d)
-        X = W[i + 1:j] - a
-        if L2 > 0:
-            u = np.clip(X @ d / L2, 0.0, 1.0)
-            dist = np.linalg.norm(X - u[:, None] * d, axis=1)
-        else:
-            dist = np.linalg.norm(X, axis=1)
-        k = int(np.argmax(dist))
-        if dist[k] > tolerance:
-            m = i + 1 + k
-            keep[m] = True
-            stack += [(i, m), (m, j)]
+    lo, hi = np.array([0]), np.array([len(W) - 1])
+    while len(lo):
+        lens = hi - lo - 1
+        inner = lens > 0
+        lo, hi, lens = lo[inner], hi[inner], lens[inner]
+        if not len(lo):
+            break
+        seg = np.repeat(np.arange(len(lo)), lens)              # range of every interior point
+        starts = np.cumsum(lens) - lens
+        idx = lo[seg] + 1 + np.arange(len(seg)) - starts[seg]
+        a = W[lo[seg]]
+        d = W[hi[seg]] - a
+        X = W[idx] - a
+        L2 = np.einsum("ij,ij->i", d, d)
+        u = np.where(L2 > 0, np.clip(np.einsum("ij,ij->i", X, d) / np.where(L2 > 0, L2, 1.0), 0.0, 1.0), 0.0)
+        dist = np.linalg.norm(X - u[:, None] * d, axis=1)
+        mx = np.maximum.reduceat(dist, starts)
+        pos = np.flatnonzero(dist == mx[seg])                  # the first farthest point of every range
+        _, first = np.unique(seg[pos], return_index=True)
+        m = idx[pos[first]]
+        split = mx > tolerance
+        keep[m[split]] = True
+        lo, hi = np.r_[lo[split], m[split]], np.r_[m[split], hi[split]]
     return W[keep]
 
 

@@ -33,8 +33,8 @@ class Stages:
     """The rows of the discretised problem (see the module docstring).
 
     ``s`` (K+1,) grid; ``h`` (K,) its steps; ``ub`` (K+1,) upper bound of each b (0 at both ends and
-    at stops, else inf); ``beta`` (K+1,) the maximum velocity curve at the grid points (every
-    feasible b_i ≤ beta_i; inf where nothing bounds it); rows ``iv, ci, cj, lo, up`` (R,) sorted by
+    at stops, else inf); ``beta`` (K+1,) the maximum velocity curve at the grid points, or an upper
+    bound of it (see :func:`build_stages`; every feasible b_i ≤ beta_i; inf where nothing bounds it); rows ``iv, ci, cj, lo, up`` (R,) sorted by
     interval; the constraint points ``ri, rs, rp, theta`` (2·segments,) with ``d1, d2`` (…, n) = q′, q″
     there (pairs (0, 1), (2, 3), … are the two ends of one segment).
     """
@@ -129,9 +129,11 @@ def max_velocity_curve(d1: np.ndarray, d2: np.ndarray, amax: np.ndarray) -> np.n
     return np.minimum(pair, lone)
 
 
-def build_stages(bp: BlendedPath, K: int, vmax: np.ndarray, amax: np.ndarray) -> Stages:
+def build_stages(bp: BlendedPath, K: int, vmax: np.ndarray, amax: np.ndarray, full_mvc: bool = True) -> Stages:
     """The grid of ``K`` uniform intervals (plus stops) over ``bp`` and every row of the problem
-    (module docstring); ``vmax``, ``amax`` (n,) validated limits."""
+    (module docstring); ``vmax``, ``amax`` (n,) validated limits.  ``full_mvc=False``: ``beta`` is
+    only the speed part of the maximum velocity curve where that bounds b (still an upper bound of
+    every feasible b_i, all the reachability passes need; cheaper)."""
     n = bp.n
     s = _grid(bp, K)
     K = len(s) - 1
@@ -169,9 +171,11 @@ def build_stages(bp: BlendedPath, K: int, vmax: np.ndarray, amax: np.ndarray) ->
         up.append(np.full(len(sel), amax[j]))
     iv_a = np.concatenate(iv)
     o = np.argsort(iv_a, kind="stable")
-    # the maximum velocity curve at the grid points bounds every feasible b_i
-    mvc = np.minimum(max_velocity_curve(d1, d2, amax),
-                     np.where(kappa > 0, 1.0 / np.where(kappa > 0, kappa, 1.0), np.inf))
+    # the maximum velocity curve at the grid points bounds every feasible b_i; without ``full_mvc``
+    # only its speed part (1/κ), plus the acceleration part where the speed does not bound b (q′ = 0)
+    mvc = np.where(kappa > 0, 1.0 / np.where(kappa > 0, kappa, 1.0), np.inf)
+    need = slice(None) if full_mvc else np.flatnonzero(kappa <= 0)
+    mvc[need] = np.minimum(mvc[need], max_velocity_curve(d1[need], d2[need], amax))
     beta = np.full(K + 1, np.inf)
     at = np.where(theta <= 0.0, ri, np.where(theta >= 1.0, ri + 1, -1))
     on = at >= 0
