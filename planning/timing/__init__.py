@@ -1,10 +1,13 @@
-"""Time parameterisation of joint paths under speed and acceleration limits: the shared types
-(:mod:`~planning.timing.trajectory`), path shaping (:mod:`~planning.timing.shaping`), the OSQP
-parameterisation (:mod:`~planning.timing.parameterize`) and the limit check (:mod:`~planning.timing.limits`)."""
-from planning.timing.limits import LimitCheck, check_limits
-from planning.timing.parameterize import DEFAULT_INTERVALS, MAX_INTERVALS, time_parameterize
+"""Time parameterisation of joint paths under speed, acceleration and optional jerk limits: the shared
+types (:mod:`~planning.timing.trajectory`), path shaping (:mod:`~planning.timing.shaping`), the
+discretised problem (:mod:`~planning.timing.stages`), its solvers — TOPP-RA's reachability passes
+(:mod:`~planning.timing.reachability`, compiled by :mod:`~planning.timing.native`) and OSQP
+(:mod:`~planning.timing.qp`) — the jerk post-pass (:mod:`~planning.timing.jerk`), the entry point
+(:mod:`~planning.timing.parameterize`) and the limit checks (:mod:`~planning.timing.limits`)."""
+from planning.timing.limits import LimitCheck, check_limits, dense_ratios
+from planning.timing.parameterize import DEFAULT_INTERVALS, MAX_INTERVALS, METHODS, time_parameterize
 from planning.timing.shaping import blend_path, simplify_path
 from planning.timing.trajectory import BlendedPath, TimedTrajectory, TimingError
 
-__all__ = ["time_parameterize", "check_limits", "blend_path", "simplify_path", "BlendedPath", "TimedTrajectory",
-           "LimitCheck", "TimingError", "DEFAULT_INTERVALS", "MAX_INTERVALS"]
+__all__ = ["time_parameterize", "check_limits", "dense_ratios", "blend_path", "simplify_path", "BlendedPath",
+           "TimedTrajectory", "LimitCheck", "TimingError", "DEFAULT_INTERVALS", "MAX_INTERVALS", "METHODS"]

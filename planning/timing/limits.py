@@ -13,8 +13,7 @@ import numpy as np
 
 from planning.timing.trajectory import TimedTrajectory, TimingError
 
-__all__ = ["check_limits", "LimitCheck"]
-
+__all__ = ["check_limits", "LimitCheck", "dense_ratios", "dense_times"]
 
 
 @dataclass(frozen=True)
@@ -65,3 +64,27 @@ def check_limits(traj: TimedTrajectory, v_max, a_max, tol: float = 1e-3) -> Limi
             far = float(np.max(np.abs(acc) / amax))
     ok = max(vr, ar, fvr, far) <= 1.0 + tol
     return LimitCheck(bool(ok), vr, ar, fvr, far, float(tol))
+
+
+def dense_times(t: np.ndarray, per_interval: int) -> np.ndarray:
+    """``per_interval`` times in every interval [t_k, t_{k+1}) of ``t`` (K,), the last a hair before
+    t_{k+1} (the interval's own end, where q̈ may jump), plus the final time."""
+    if len(t) < 2:
+        return np.asarray(t, dtype=float).copy()
+    u = np.linspace(0.0, 1.0, per_interval + 1)[1:]
+    u = np.r_[0.0, u[:-1], 1.0 - 1e-9]
+    dt = np.diff(t)
+    return np.r_[(t[:-1, None] + dt[:, None] * u[None, :]).ravel(), t[-1]]
+
+
+def dense_ratios(traj: TimedTrajectory, v_max, a_max, per_interval: int = 8) -> tuple[float, float]:
+    """Largest |q̇_j|/v_j and |q̈_j|/A_j over ``per_interval`` + 1 times in every interval between the
+    trajectory's samples (both ends included), from the exact s(t) (:meth:`TimedTrajectory.sample`):
+    the re-check between grid points."""
+    n = traj.q.shape[1]
+    vmax = _limits(v_max, n, "v_max")
+    amax = _limits(a_max, n, "a_max")
+    if not (isinstance(per_interval, int) and 1 <= per_interval <= 10_000):
+        raise TimingError(f"per_interval = {per_interval!r} must be an integer in [1, 10000]")
+    _, qd, qdd = traj.sample(dense_times(traj.t, per_interval))
+    return float(np.max(np.abs(qd) / vmax)), float(np.max(np.abs(qdd) / amax))

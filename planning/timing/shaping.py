@@ -32,31 +32,36 @@ __all__ = ["blend_path", "simplify_path"]
 
 def simplify_path(path, tolerance: float) -> np.ndarray:
     """Ramer–Douglas–Peucker in joint space: the fewest waypoints (a subset, ends kept) such that every
-    dropped waypoint lies within ``tolerance`` (rad or m, Euclidean) of the simplified polyline."""
+    dropped waypoint lies within ``tolerance`` (rad or m, Euclidean) of the simplified polyline.  The
+    ranges still to split are processed together, one numpy pass per level of the recursion."""
     W = np.asarray(path, dtype=float)
     if len(W) <= 2 or tolerance <= 0:
         return W.copy()
     keep = np.zeros(len(W), bool)
     keep[0] = keep[-1] = True
-    stack = [(0, len(W) - 1)]
-    while stack:
-        i, j = stack.pop()
-        if j <= i + 1:
-            continue
-        a, b = W[i], W[j]
-        d = b - a
-        L2 = float(d @ d)
-        X = W[i + 1:j] - a
-        if L2 > 0:
-            u = np.clip(X @ d / L2, 0.0, 1.0)
-            dist = np.linalg.norm(X - u[:, None] * d, axis=1)
-        else:
-            dist = np.linalg.norm(X, axis=1)
-        k = int(np.argmax(dist))
-        if dist[k] > tolerance:
-            m = i + 1 + k
-            keep[m] = True
-            stack += [(i, m), (m, j)]
+    lo, hi = np.array([0]), np.array([len(W) - 1])
+    while len(lo):
+        lens = hi - lo - 1
+        inner = lens > 0
+        lo, hi, lens = lo[inner], hi[inner], lens[inner]
+        if not len(lo):
+            break
+        seg = np.repeat(np.arange(len(lo)), lens)              # range of every interior point
+        starts = np.cumsum(lens) - lens
+        idx = lo[seg] + 1 + np.arange(len(seg)) - starts[seg]
+        a = W[lo[seg]]
+        d = W[hi[seg]] - a
+        X = W[idx] - a
+        L2 = np.einsum("ij,ij->i", d, d)
+        u = np.where(L2 > 0, np.clip(np.einsum("ij,ij->i", X, d) / np.where(L2 > 0, L2, 1.0), 0.0, 1.0), 0.0)
+        dist = np.linalg.norm(X - u[:, None] * d, axis=1)
+        mx = np.maximum.reduceat(dist, starts)
+        pos = np.flatnonzero(dist == mx[seg])                  # the first farthest point of every range
+        _, first = np.unique(seg[pos], return_index=True)
+        m = idx[pos[first]]
+        split = mx > tolerance
+        keep[m[split]] = True
+        lo, hi = np.r_[lo[split], m[split]], np.r_[m[split], hi[split]]
     return W[keep]
 
 
@@ -86,31 +91,29 @@ def blend_path(path, blend: float = 0.05, simplify: float = 1e-4) -> BlendedPath
     M = len(W)
     total = float(L.sum())
     r = np.zeros(M)            # cut at each interior waypoint
-    for k in range(1, M - 1):
-        r[k] = min(blend, 0.5 * L[k - 1], 0.5 * L[k])
-    pieces, s0s, ells, stops = [], [], [], []
-    s = 0.0
-    dev = 0.0
-    for k in range(M - 1):
-        a = W[k] + r[k] * U[k]
-        b = W[k + 1] - r[k + 1] * U[k]
-        seg = float(np.linalg.norm(b - a))
-        if seg > 1e-9 * total:
-            pieces.append((a, 0.5 * (a + b), b))
-            s0s.append(s)
-            ells.append(seg)
-            s += seg
-        if k + 1 < M - 1:
-            if r[k + 1] > 0:
-                P0, P1, P2 = W[k + 1] - r[k + 1] * U[k], W[k + 1], W[k + 1] + r[k + 1] * U[k + 1]
-                pieces.append((P0, P1, P2))
-                s0s.append(s)
-                ells.append(2 * r[k + 1])
-                s += 2 * r[k + 1]
-                dev = max(dev, float(np.linalg.norm(0.25 * (P0 - 2 * P1 + P2))))   # |B(½) − P1|
-            elif np.linalg.norm(U[k + 1] - U[k]) > 1e-9:
-                stops.append(s)
+    r[1:-1] = np.minimum(blend, 0.5 * np.minimum(L[:-1], L[1:]))
+    # candidate pieces in path order: line 0, blend 1, line 1, blend 2, …, line M−2
+    A = W[:-1] + r[:-1, None] * U
+    B = W[1:] - r[1:, None] * U
+    seg = np.linalg.norm(B - A, axis=1)
+    lines = np.stack([A, 0.5 * (A + B), B], axis=1)                              # (M−1, 3, n)
+    Wc, rc = W[1:-1], r[1:-1, None]
+    blends = np.stack([Wc - rc * U[:-1], Wc, Wc + rc * U[1:]], axis=1)            # (M−2, 3, n)
+    cand = np.empty((2 * M - 3, 3, n))
+    cand[0::2], cand[1::2] = lines, blends
+    ell = np.empty(2 * M - 3)
+    ell[0::2], ell[1::2] = seg, 2 * r[1:-1]
+    keep_p = np.empty(2 * M - 3, bool)
+    keep_p[0::2], keep_p[1::2] = seg > 1e-9 * total, r[1:-1] > 0
+    ends = np.cumsum(np.where(keep_p, ell, 0.0))          # s at the end of every candidate
+    # an unblended corner (r = 0) where the direction changes is a stop, at the end of the line before it
+    corner = (r[1:-1] <= 0) & (np.linalg.norm(U[1:] - U[:-1], axis=1) > 1e-9)
+    stops = ends[0::2][:-1][corner]
+    dev = float(np.max(np.linalg.norm(0.25 * (blends[:, 0] - 2 * blends[:, 1] + blends[:, 2]), axis=1)[r[1:-1] > 0],
+                       initial=0.0))                      # |B(½) − P1|
+    pieces, ells = cand[keep_p], ell[keep_p]
+    s0s = np.r_[0.0, np.cumsum(ells)[:-1]]
     # every original waypoint lies within ``simplify`` of the simplified polyline, and the blends stay
     # within ``dev`` of it near the corners: their sum bounds the deviation
-    return BlendedPath(np.array(pieces), np.array(s0s), np.array(ells), np.array(stops),
+    return BlendedPath(pieces, s0s, ells, stops,
                        dev + (simplify if len(W) < len(keep) else 0.0), W)

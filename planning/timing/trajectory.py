@@ -76,8 +76,12 @@ class TimedTrajectory:
     that starts there; the last row with the last interval's); ``s`` (K,), ``sd`` (K,) = ṡ, ``sdd``
     (K,) = s̈; ``duration`` s; ``max_velocity_ratio`` / ``max_acceleration_ratio``: max over samples
     and joints of |q̇_j|/v_j and |q̈_j|/A_j; ``path``: the geometric path (for :meth:`sample`);
-    ``scale``: the feasibility factor c applied to the QP's b (1 − c ≈ solver tolerance); ``grid``: the
-    grid in s.
+    ``scale``: the feasibility factor c applied to the solver's b (1 − c ≈ rounding or the QP's
+    tolerance); ``grid``: the grid in s; ``method``: the solver (``"reach"`` or ``"qp"``);
+    ``overshoot``: the largest relative excess over the speed or acceleration limits found by the
+    dense re-check between samples (0 when none; :func:`planning.timing.limits.dense_ratios`);
+    ``j_max``: the jerk limits imposed (None: none) and ``max_jerk_ratio`` the largest
+    |Δq̈_j|/(Δt·j_max_j) between consecutive grid points (see :mod:`planning.timing.jerk`).
     """
 
     t: np.ndarray
@@ -96,6 +100,10 @@ class TimedTrajectory:
     qp_status: str = ""
     scale: float = 1.0
     grid: np.ndarray | None = None
+    method: str = "reach"
+    overshoot: float = 0.0
+    j_max: np.ndarray | None = None
+    max_jerk_ratio: float | None = None
 
     def sample(self, times) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """q, q̇, q̈ (T, n) at arbitrary times (clipped to [0, duration]), from the exact s(t) of the

@@ -1,6 +1,6 @@
-"""Tests of planning.timing: durations against the closed-form bang-bang / trapezoid minimum time, and
-limits recomputed from finite differences of the sampled trajectory (independent of the code's own
-q̇, q̈)."""
+"""Tests of planning.timing.parameterize (both solvers, ``method="reach"`` and ``"qp"``): durations
+against the closed-form bang-bang / trapezoid minimum time, and limits recomputed from finite
+differences of the sampled trajectory (independent of the code's own q̇, q̈)."""
 from __future__ import annotations
 
 import math
@@ -30,8 +30,10 @@ def fd_ratios(t, q, v, a):
                                      (0.37, 1.0, 2.0),     # triangle (L < v²/a)
                                      (2.5, 0.4, 3.1),      # long cruise
                                      (0.05, 2.0, 0.5)])    # short, far from the speed limit
-def test_one_joint_matches_the_closed_form(L, v, a):
-    tr = time_parameterize(np.array([[0.3], [0.3 + L]]), v, a)
+@pytest.mark.parametrize("method", ["reach", "qp"])
+def test_one_joint_matches_the_closed_form(L, v, a, method):
+    tr = time_parameterize(np.array([[0.3], [0.3 + L]]), v, a, method=method)
+    assert tr.method == method
     T = closed_form(L, v, a)
     assert tr.duration == pytest.approx(T, rel=0.01)
     assert tr.duration >= T * (1 - 1e-6)            # never faster than the true minimum
@@ -44,17 +46,27 @@ def test_one_joint_matches_the_closed_form(L, v, a):
         assert fv > 0.98
 
 
-def test_one_joint_with_a_fine_grid_is_within_a_permille():
-    tr = time_parameterize(np.array([[0.0], [1.0]]), 0.7, 1.3, ds=1e-3)
+@pytest.mark.parametrize("method", ["reach", "qp"])
+def test_one_joint_with_a_fine_grid_is_within_a_permille(method):
+    tr = time_parameterize(np.array([[0.0], [1.0]]), 0.7, 1.3, ds=1e-3, method=method)
     assert tr.duration == pytest.approx(closed_form(1.0, 0.7, 1.3), rel=1e-3)
 
 
-def test_samples_and_dense_resampling_respect_the_limits():
+def test_one_joint_on_a_very_fine_grid_converges_to_the_closed_form():
+    # 20 000 intervals: only the reachability passes handle this in milliseconds
+    tr = time_parameterize(np.array([[0.0], [1.0]]), 0.7, 1.3, ds=5e-5)
+    T = closed_form(1.0, 0.7, 1.3)
+    assert T * (1 - 1e-9) <= tr.duration <= T * (1 + 1e-4)
+
+
+@pytest.mark.parametrize("method", ["reach", "qp"])
+def test_samples_and_dense_resampling_respect_the_limits(method):
     rng = np.random.default_rng(3)
     W = np.cumsum(rng.uniform(-0.8, 0.8, (7, 4)), axis=0)
     v = np.array([1.0, 0.6, 1.5, 0.8])
     a = np.array([2.0, 1.0, 4.0, 1.5])
-    tr = time_parameterize(W, v, a, blend=0.1)
+    tr = time_parameterize(W, v, a, blend=0.1, method=method)
+    assert tr.overshoot <= 1e-9
     ck = check_limits(tr, v, a, tol=1e-3)
     assert ck.ok
     fv, fa = fd_ratios(tr.t, tr.q, v[None, :], a[None, :])
@@ -70,11 +82,12 @@ def test_samples_and_dense_resampling_respect_the_limits():
     np.testing.assert_allclose(tr.q[[0, -1]], W[[0, -1]], atol=1e-12)
 
 
-def test_straight_multi_joint_path_duration():
+@pytest.mark.parametrize("method", ["reach", "qp"])
+def test_straight_multi_joint_path_duration(method):
     q0, q1 = np.array([0.0, 1.0, -0.5]), np.array([1.2, 0.4, 0.9])
     v = np.array([1.0, 0.3, 2.0])
     a = np.array([2.0, 3.0, 0.5])
-    tr = time_parameterize(np.vstack([q0, q1]), v, a)
+    tr = time_parameterize(np.vstack([q0, q1]), v, a, method=method)
     D = np.abs(q1 - q0)
     per_joint = [closed_form(D[j], v[j], a[j]) for j in range(3)]
     assert tr.duration >= max(per_joint) * (1 - 1e-6)
@@ -84,22 +97,23 @@ def test_straight_multi_joint_path_duration():
     assert tr.duration == pytest.approx(closed_form(L, float(np.min(v / u)), float(np.min(a / u))), rel=0.01)
 
 
-def test_multi_segment_path_is_slower_than_every_joint_alone():
+@pytest.mark.parametrize("method", ["reach", "qp"])
+def test_multi_segment_path_is_slower_than_every_joint_alone(method):
     W = np.array([[0.0, 0.0, 0.0], [1.0, 0.2, -0.3], [1.5, 1.0, 0.2], [0.5, 1.4, 1.0]])
     v = np.array([0.8, 1.0, 0.5])
     a = np.array([1.0, 2.0, 1.5])
     for blend in (0.0, 0.05, 0.3):
-        tr = time_parameterize(W, v, a, blend=blend)
+        tr = time_parameterize(W, v, a, blend=blend, method=method)
         # joint j must at least cover its net displacement
         net = np.abs(W[-1] - W[0])
         assert tr.duration >= max(closed_form(net[j], v[j], a[j]) for j in range(3)) * (1 - 1e-6)
         assert check_limits(tr, v, a).ok
     # stopping at the corners (blend 0) is slower than blending them
-    t0 = time_parameterize(W, v, a, blend=0.0).duration
-    t1 = time_parameterize(W, v, a, blend=0.3).duration
+    t0 = time_parameterize(W, v, a, blend=0.0, method=method).duration
+    t1 = time_parameterize(W, v, a, blend=0.3, method=method).duration
     assert t1 < t0
     # blend 0: at rest at every interior waypoint
-    tr = time_parameterize(W, v, a, blend=0.0)
+    tr = time_parameterize(W, v, a, blend=0.0, method=method)
     for w in W[1:-1]:
         k = int(np.argmin(np.linalg.norm(tr.q - w, axis=1)))
         assert np.linalg.norm(tr.q[k] - w) < 1e-12 and np.allclose(tr.qd[k], 0.0, atol=1e-9)
@@ -151,4 +165,20 @@ def test_zero_length_and_bad_input():
         time_parameterize(np.array([[0.0], [1.0]]), 1.0, 1.0, ds=0.0)
     with pytest.raises(TimingError, match="blend"):
         time_parameterize(np.array([[0.0], [1.0]]), 1.0, 1.0, blend=-1.0)
+    with pytest.raises(TimingError, match="ds"):
+        time_parameterize(np.array([[0.0], [1.0]]), 1.0, 1.0, ds="0.1")
+    with pytest.raises(TimingError, match="ds"):
+        time_parameterize(np.array([[0.0], [1.0]]), 1.0, 1.0, ds=1e-9)          # too many intervals
+    with pytest.raises(TimingError, match="ds .* at most 5000 with method='qp'"):
+        time_parameterize(np.array([[0.0], [1.0]]), 1.0, 1.0, ds=1e-4, method="qp")
+    with pytest.raises(TimingError, match="ds .* and j_max"):
+        time_parameterize(np.array([[0.0], [1.0]]), 1.0, 1.0, ds=1e-4, j_max=10.0)
+    with pytest.raises(TimingError, match="method"):
+        time_parameterize(np.array([[0.0], [1.0]]), 1.0, 1.0, method="toppra")
+    with pytest.raises(TimingError, match="backend"):
+        time_parameterize(np.array([[0.0], [1.0]]), 1.0, 1.0, backend="fortran")
+    with pytest.raises(TimingError, match="j_max"):
+        time_parameterize(np.array([[0.0], [1.0]]), 1.0, 1.0, j_max=0.0)
+    with pytest.raises(TimingError, match="j_max"):
+        time_parameterize(np.array([[0.0, 0.0], [1.0, 1.0]]), 1.0, 1.0, j_max=[1.0, np.inf])
     assert issubclass(TimingError, kin.RmtError)
