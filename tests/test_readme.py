@@ -40,7 +40,12 @@ def test_readme_has_examples():
 
 @pytest.mark.parametrize("i", range(len(PY_BLOCKS)))
 def test_python_block_runs(i):
-    exec(compile(PY_BLOCKS[i], f"README python block {i}", "exec"), {})
+    namespace: dict = {"__name__": f"readme_block_{i}"}
+    exec(compile(PY_BLOCKS[i], f"README python block {i}", "exec"), namespace)
+    # a block that is a test file (the planning.testing example): its tests must pass as shown
+    for name, fn in namespace.items():
+        if name.startswith("test_") and callable(fn):
+            fn()
 
 
 @pytest.fixture(scope="module")
