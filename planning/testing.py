@@ -19,7 +19,9 @@ What is checked, and how:
 * joint limits: exactly (the joints are linear along a segment: the rows decide);
 * singular windows: proven for every segment (:func:`planning.certify.certify_path`); a segment
   the proof cannot settle is checked densely as well, and the assertion says which was used;
-* a σ_min floor and keep-out boxes: densely, at ``step`` (default 0.1° / 0.1 mm between states).
+* a σ_min floor: proven along every segment (:func:`planning.certify.certify_sigma`), sampled where
+  the bound cannot settle a segment;
+* keep-out boxes: densely, at ``step`` (default 0.1° / 0.1 mm between states).
 """
 from __future__ import annotations
 
@@ -27,7 +29,7 @@ import math
 
 import numpy as np
 
-from planning.certify import certify_path
+from planning.certify import certify_path, certify_sigma
 from planning.ompl.validity import JointSpaceChecker
 from planning.toolpath.check import validate_toolpath
 from planning.validate import DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, check_path, densify
@@ -106,17 +108,19 @@ def assert_path_valid(robot, path, windows=None, sigma_floor: float | None = Non
                     found.append((k, 0.5, f"segment {k} → {k + 1}: {chk.first_violation.detail} (sampled at "
                                           f"{math.degrees(step_angle):.3g}°)"))
                     break
-    if sigma_floor is not None or keep_out:
+    if sigma_floor is not None:
+        sp = certify_sigma(robot, P, sigma_floor)
+        if sp.violation is not None:
+            k, f, q, s = sp.violation
+            found.append((k, f, f"{_where(k, f, len(P) - 1)}, q = {_q_text(chain, q)}: σ_min = {s:.4g} below the floor "
+                                f"{sigma_floor:.4g} by {sigma_floor - s:.3g} (proven)"))
+        for k in sp.unproven:             # segments the bound could not settle: sampled
+            chk = check_path(robot, P[k:k + 2], None, sigma_floor, step_angle, step_length, prove=False)
+            if not chk.valid:
+                found.append((k, 0.5, f"segment {k} → {k + 1}: {chk.first_violation.detail} (sampled)"))
+                break
+    if keep_out:
         Q, seg, frac = densify(P, chain.revolute_mask, step_angle, step_length)
-        if sigma_floor is not None:
-            sig = robot.sigma_min(Q)
-            low = sig < sigma_floor
-            if low.any():
-                k = int(np.argmax(low))
-                found.append((int(seg[k]), float(frac[k]),
-                              f"{_where(int(seg[k]), float(frac[k]), len(P) - 1)}, q = {_q_text(chain, Q[k])}: "
-                              f"σ_min = {sig[k]:.4g} below the floor {sigma_floor:.4g} by {sigma_floor - sig[k]:.3g} "
-                              "(sampled)"))
         for b, box in enumerate(keep_out):
             hit = JointSpaceChecker(robot, boxes=[box])._in_box(Q)
             if hit.any():

@@ -18,7 +18,8 @@ every window, or the first state inside one is found, by :func:`planning.certify
 sampled check can miss a segment that grazes a window between two states, the proof cannot.  The
 result says how the windows were decided (``windows_check``: ``"proven"``, ``"sampled"`` where the
 proof could not settle a segment, or None without windows); the first window violation is the
-earlier of the proof's and the samples'.
+earlier of the proof's and the samples'.  A σ_min floor is proven the same way (Weyl's inequality
+and a Lipschitz bound of the Jacobian, :func:`planning.certify.certify_sigma`; ``sigma_check``).
 """
 from __future__ import annotations
 
@@ -29,7 +30,7 @@ import numpy as np
 
 from kin.errors import ConfigurationError
 
-from planning.certify import certify_path
+from planning.certify import certify_path, certify_sigma
 from planning.windows import WindowSet
 
 DEFAULT_STEP_ANGLE = math.radians(0.1)   # rad
@@ -62,6 +63,7 @@ class PathCheck:
     max_step: float
     checked_states: int
     windows_check: str | None = None     # "proven", "sampled" (not every segment proven) or None (no windows)
+    sigma_check: str | None = None       # the same for the σ_min floor (None: no floor)
 
     def to_dict(self) -> dict:
         d = asdict(self)
@@ -198,7 +200,18 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
                 found["window"] = Violation(v.segment, "window", f"inside window '{v.window}' "
                                             f"{_label(v.segment, v.t)} (proven)")
             windows_check = "proven" if proof.proven or v is not None else "sampled"
+    sigma_check = None
+    if sigma_min is not None:
+        sigma_check = "sampled"
+        if prove:
+            sp = certify_sigma(robot, P, sigma_min)
+            if sp.violation is not None:
+                k, f, _, s = sp.violation
+                if "sigma_min" not in found or k < found["sigma_min"].index:
+                    found["sigma_min"] = Violation(k, "sigma_min", f"σ_min = {s:.3g} < {sigma_min:.3g} {_label(k, f)} "
+                                                   "(proven)")
+            sigma_check = "proven" if sp.proven or sp.violation is not None else "sampled"
     for kind in ("limits", "window", "sigma_min"):
         if kind in found:
             note(found[kind])
-    return PathCheck(first is None, first, sig_min, sig_seg, max_step_seen, total, windows_check)
+    return PathCheck(first is None, first, sig_min, sig_seg, max_step_seen, total, windows_check, sigma_check)

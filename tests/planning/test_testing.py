@@ -66,7 +66,7 @@ def test_limits_sigma_floor_and_keep_out(fanuc):
     P = np.array([[0, -0.8, 0.7, 0.3, 0.8, 0.0], [0, -0.8, 0.7, 0.3, 0.2, 0.0]])
     sig = robot.sigma_min(np.array([P[0] + t * (P[1] - P[0]) for t in np.linspace(0, 1, 2001)]))
     floor = float(sig.min() + 0.5 * (sig.max() - sig.min()))
-    with pytest.raises(AssertionError, match=r"σ_min = .* below the floor .*\(sampled\)"):
+    with pytest.raises(AssertionError, match=r"σ_min = .* below the floor .*\(proven\)"):
         assert_path_valid(robot, P, sigma_floor=floor)
     assert_path_valid(robot, P, sigma_floor=float(sig.min()) * 0.99)
     tool = robot.fk(P[0])[:3, 3]
