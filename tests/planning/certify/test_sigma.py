@@ -23,12 +23,14 @@ def test_lipschitz_bound_holds(name):
 
 def test_proofs_agree_with_dense_sampling():
     robot = kin.load_robot("fanuc_m16ib20")
-    Q = robot.random_configurations(120, seed=3).reshape(-1, 2, 6)
+    Q = robot.random_configurations(2000, seed=3).reshape(-1, 2, 6)
+    t = np.linspace(0.0, 1.0, 4001)
     proven = violated = 0
-    for a, b in Q:
-        t = np.linspace(0.0, 1.0, 4001)
+    for i, (a, b) in enumerate(Q):
         s = robot.sigma_min(a + t[:, None] * (b - a))
-        floor = float(np.quantile(s, 0.3)) if violated < proven else float(s.min()) * 0.5
+        if s.min() < 0.02:                 # through a singularity: σ_min reaches 0, nothing to prove
+            continue
+        floor = float(np.quantile(s, 0.3)) if i % 2 else float(s.min()) * 0.5
         pr = certify_sigma(robot, np.array([a, b]), floor)
         if pr.proven:
             proven += 1
@@ -40,4 +42,6 @@ def test_proofs_agree_with_dense_sampling():
             assert sv < floor and robot.sigma_min(q) == pytest.approx(sv)
             assert np.allclose(q, a + f * (b - a))
             assert not (s[t < f - 1e-3] < floor - 1e-9).any()       # nothing clearly earlier was below
+        if proven >= 10 and violated >= 10:
+            break
     assert proven >= 10 and violated >= 10
