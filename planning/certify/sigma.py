@@ -96,13 +96,15 @@ def certify_sigma(robot, path, floor: float, max_depth: int = 30, max_evaluation
             cand = (int(seg[i]), float(tm[i]), Q[i].copy(), float(s[i]))
             if found is None or cand[:2] < found[:2]:
                 found = cand
-        open_ = (s - rate[seg] * 0.5 * (t1 - t0) < floor) & (s >= floor)
+        # not proven: split (a piece whose middle is below the floor too: its left half may hold an
+        # earlier violation; the filter above drops what lies after the first one found)
+        open_ = s - rate[seg] * 0.5 * (t1 - t0) < floor
         seg, t0, t1, tm = seg[open_], t0[open_], t1[open_], tm[open_]
         if depth == max_depth or evaluations + 2 * len(seg) > max_evaluations:
             unproven = sorted({int(k) for k in seg})
             break
         seg = np.repeat(seg, 2)
         t0, t1 = np.column_stack([t0, tm]).ravel(), np.column_stack([tm, t1]).ravel()
-    if found is not None:
+    if found is not None:       # pieces left just before the violation found are in its own segment
         unproven = [k for k in unproven if k < found[0]]
     return SigmaProof(found is None and not unproven, found, unproven, evaluations)
