@@ -185,6 +185,10 @@ def _movable(j, origin: np.ndarray, path: str, el: str) -> UrdfJoint:
     norm = float(np.linalg.norm(axis)) if axis.shape == (3,) else 0.0
     if not np.all(np.isfinite(axis)) or norm < 1e-9:
         raise UrdfError(f"its <axis> {axis.tolist()} must be three finite numbers, not all zero", path, el)
+    if j.type == "prismatic" and abs(norm - 1.0) > 1e-3:
+        # tools disagree on a longer axis (a unit step, or a step of its length): refuse rather than guess
+        raise UrdfError(f"the <axis> {axis.tolist()} of a prismatic joint must be a unit vector (norm {norm:.6g})",
+                        path, el)
     axis = axis / norm
     lim = j.limit
     velocity = None
