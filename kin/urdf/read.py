@@ -8,6 +8,7 @@ with ``M`` a rotation about (revolute, continuous) or a translation along (prism
 """
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -92,12 +93,18 @@ def load_urdf_model(path: str | Path):
     path = str(path)
     if not Path(path).is_file():
         raise UrdfError("no such file", path)
+    quiet = logging.getLogger("yourdfpy")      # it logs parse errors itself; ours is the one message
+    level = quiet.level
+    quiet.setLevel(logging.CRITICAL)
     try:
-        model = yourdfpy.URDF.load(path, build_scene_graph=False, build_collision_scene_graph=False,
-                                   load_meshes=False, load_collision_meshes=False)
+        with np.errstate(all="ignore"):
+            model = yourdfpy.URDF.load(path, build_scene_graph=False, build_collision_scene_graph=False,
+                                       load_meshes=False, load_collision_meshes=False)
     except Exception as e:   # lxml, yourdfpy and plain attribute errors alike: the file is not a URDF
         raise UrdfError(f"not a readable URDF ({type(e).__name__}: {str(e).strip() or 'malformed XML'})",
                         path, "robot") from None
+    finally:
+        quiet.setLevel(level)
     if model.robot is None or not model.robot.links:
         raise UrdfError("the URDF has no <link>", path, "robot")
     return model
