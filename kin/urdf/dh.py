@@ -30,7 +30,7 @@ import math
 import re
 import numpy as np
 
-from kin.chain import Chain, Joint, Placement
+from kin.chain import NAME_RE, Chain, Joint, Placement
 from kin.urdf.errors import UrdfError
 from kin.urdf.read import SerialChain, read_serial_chain
 
@@ -144,6 +144,8 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
     base, tool = frames[0], np.linalg.solve(frames[-1], tip)
     if name is None:
         name = re.sub(r"[^a-z0-9]+", "_", sc.robot_name.lower()).strip("_") or "imported"
+    elif not NAME_RE.match(name):
+        raise UrdfError(f"robot name {name!r} must match [a-z0-9_]+", sc.path)
     chain = Chain(name=name, joints=tuple(joints), convention="standard",
                   title=f"{sc.robot_name or name}, {sc.base} to {sc.tip} (imported from URDF)",
                   source=f"converted from the URDF file {sc.path.rsplit('/', 1)[-1]} (chain {sc.base} -> {sc.tip}) "

@@ -99,7 +99,9 @@ def chain_to_urdf(chain: Chain) -> str:
         link = ET.SubElement(robot, "link", name=lname)
         if lname == "tool":
             continue
-        if 1 <= k:       # the joint that moves this link: a short cylinder along its axis (z)
+        if k == 0:       # a pedestal under the base frame
+            _cylinder(link, make_transform(None, [0.0, 0.0, -radius / 2]), 2.0 * radius, radius, "rmt_grey")
+        else:            # the joint that moves this link: a short cylinder along its axis (z)
             _cylinder(link, np.eye(4), 1.4 * radius, 3.0 * radius, "rmt_joint")
         _segment(link, origins[k][:3, 3], radius)
     for i, (j, jname) in enumerate(zip(chain.joints, _joint_names(chain))):
