@@ -149,7 +149,8 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
     chain = Chain(name=name, joints=tuple(joints), convention="standard",
                   title=f"{sc.robot_name or name}, {sc.base} to {sc.tip} (imported from URDF)",
                   source=f"converted from the URDF file {sc.path.rsplit('/', 1)[-1]} (chain {sc.base} -> {sc.tip}) "
-                         "by rmt import-urdf; continuous joints get limits of one turn [-pi, pi]",
+                         "by rmt import-urdf" + ("; continuous joints get limits of one turn [-pi, pi]"
+                                                 if any(j.continuous for j in sc.joints) else ""),
                   base=_placement(base), tool=_placement(tool))
     return chain.to_modified() if convention == "modified" else chain
 
