@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 import re
+
 import numpy as np
 
 from kin.chain import NAME_RE, Chain, Joint, Placement

@@ -129,4 +129,3 @@ def save_urdf(chain: Chain, path: str | Path) -> Path:
     tmp.write_text(chain_to_urdf(chain), encoding="utf-8")
     tmp.replace(path)
     return path
-

@@ -23,7 +23,7 @@ def urdf_text(joints: list[dict], name: str = "synthetic") -> str:
         for lk in (j["parent"], j["child"]):
             if lk not in links:
                 links.append(lk)
-    out = [f'<?xml version="1.0"?>', f'<robot name="{name}">']
+    out = ['<?xml version="1.0"?>', f'<robot name="{name}">']
     out += [f'  <link name="{lk}"/>' for lk in links]
     for j in joints:
         out.append(f'  <joint name="{j["name"]}" type="{j["type"]}">')
