@@ -37,6 +37,7 @@ needs_product = pytest.mark.skipif(not HAS_PRODUCT_API,
 EXPECTED_ROBOTS = {
     "puma560", "scara_rrp", "fanuc_m16ib20", "cnc_rrrppp", "stanford_arm", "ur3_homework",
     "solar_concentrator", "planar_2r", "spherical_rrp", "ur5e", "ur10e", "abb_irb120",
+    "franka_panda", "kuka_iiwa7", "kuka_iiwa14", "ur3e", "ur16e", "kinova_gen3", "fanuc_lrmate200id",
 }
 
 

@@ -1,0 +1,174 @@
+"""DH parameters of a general serial chain from its joint axes (the common-normal construction).
+
+Given the joint axes as lines at q = 0 (a point and a unit direction each, in the base link's frame)
+and the tip pose, build standard (distal) DH frames 0…n, each fixed in its link:
+
+* z_{i-1} is joint i's axis, with the URDF's direction (so q turns the same way);
+* frame i (1 ≤ i < n) sits where the common normal of axes i and i+1 meets axis i+1; x_i lies along
+  that normal.  Where the normal is not unique the choice is documented:
+
+  - skew axes: the unique common normal;
+  - intersecting axes: the normal through the intersection point, x_i ∥ z_{i-1} × z_i;
+  - parallel axes (|z_{i-1} × z_i| < ``PARALLEL_TOL``): the normal through o_{i-1}, so d_i = 0;
+  - coincident axes: x_i = x_{i-1} and o_i = o_{i-1} (a_i = d_i = 0).
+
+  Of the two directions ±x_i the one with |θ_i offset| ≤ π/2 is taken (a_i may then be negative,
+  as in Universal Robots' tables);
+* frame 0 sits on axis 1 at the foot of the base link's origin, x_0 along the base link's x axis
+  (its y axis if x is along the joint axis) made perpendicular to z_0;
+* frame n: z_n = z_{n-1} (α_n = 0, a_n = 0), origin on axis n level with the tip (d_n), x_n along the
+  tip's x axis (its y axis if x is along z_n) made perpendicular to z_n.
+
+The base transform is frame 0 in the base link's frame, the tool transform the tip in frame n.  Each
+DH matrix is read off F_{i-1}⁻¹·F_i and checked to have the DH form, so FK is the URDF's.  Joint
+axes that are almost but not quite parallel (a URDF's 1.5708 for π/2) give a far-away common normal
+and a large d; the construction stays exact, only the table looks odd.
+"""
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+
+from kin.chain import NAME_RE, Chain, Joint, Placement
+from kin.urdf.errors import UrdfError
+from kin.urdf.read import SerialChain, read_serial_chain
+
+PARALLEL_TOL = 1e-12     # |sin| between consecutive axes below which they are parallel
+DH_FORM_TOL = 1e-9       # largest entry of F_{i-1}^-1·F_i that the DH form cannot hold
+SNAP = 1e-14             # DH values this close to 0 (lengths, m) or k·π/2 (angles, rad) are snapped
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    return v / np.linalg.norm(v)
+
+
+def _perp(v: np.ndarray, z: np.ndarray) -> np.ndarray | None:
+    """``v`` made perpendicular to unit ``z`` and normalised; None when v is (nearly) along z."""
+    w = v - (v @ z) * z
+    n = float(np.linalg.norm(w))
+    return w / n if n > 1e-6 else None
+
+
+def _frame(o: np.ndarray, x: np.ndarray, z: np.ndarray) -> np.ndarray:
+    F = np.eye(4)
+    x = _unit(x - (x @ z) * z)
+    F[:3, 0], F[:3, 1], F[:3, 2], F[:3, 3] = x, np.cross(z, x), z, o
+    return F
+
+
+def _offset(x_prev: np.ndarray, x: np.ndarray, z: np.ndarray) -> float:
+    """Angle about z from x_prev to x (rad)."""
+    return math.atan2(float(np.cross(x_prev, x) @ z), float(x_prev @ x))
+
+
+def _next_frame(F: np.ndarray, p: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """Frame i from frame i-1 (on axis i) and axis i+1 (point p, unit direction u)."""
+    o, x_prev, z = F[:3, 3], F[:3, 0], F[:3, 2]
+    c = np.cross(z, u)
+    s = float(np.linalg.norm(c))
+    if s < PARALLEL_TOL:
+        foot = p + ((o - p) @ u) * u           # the normal through o_{i-1}
+        w = (foot - o) - ((foot - o) @ z) * z
+        if np.linalg.norm(w) < 1e-12:          # coincident axes
+            return _frame(o, x_prev, u)
+        o_new, x = foot, _unit(w)
+    else:
+        w = o - p
+        b, d, e = float(z @ u), float(z @ w), float(u @ w)
+        o_new = p + ((e - b * d) / (s * s)) * u  # foot of the common normal on axis i+1
+        x = c / s
+    if abs(_offset(x_prev, x, z)) > math.pi / 2 + 1e-12:
+        x = -x
+    return _frame(o_new, x, u)
+
+
+def _dh_of(M: np.ndarray, i: int, path: str) -> tuple[float, float, float, float]:
+    """(a, alpha, d, theta) of M = Rz(θ)·Tz(d)·Tx(a)·Rx(α); refuses an M of another form."""
+    theta = math.atan2(M[1, 0], M[0, 0])
+    alpha = math.atan2(M[2, 1], M[2, 2])
+    ct, st = math.cos(theta), math.sin(theta)
+    a = M[0, 3] * ct + M[1, 3] * st
+    d = M[2, 3]
+    defect = max(abs(M[2, 0]), abs(M[0, 3] * st - M[1, 3] * ct))
+    if defect > DH_FORM_TOL:
+        raise UrdfError(f"the DH frames of joints {i} and {i + 1} are not related by a DH transform "
+                        f"(defect {defect:.3g}); please report this URDF", path)
+    return a, alpha, d, theta
+
+
+def _snap(x: float, angle: bool) -> float:
+    if angle:
+        k = round(x / (math.pi / 2))
+        return k * (math.pi / 2) if abs(x - k * (math.pi / 2)) < SNAP else x
+    return 0.0 if abs(x) < SNAP else x
+
+
+def dh_frames(points: np.ndarray, dirs: np.ndarray, tip: np.ndarray) -> list[np.ndarray]:
+    """Standard DH frames 0…n (each (4, 4), base-link frame, q = 0) for axes (n, 3) + (n, 3), tip (4, 4)."""
+    n = len(points)
+    z0 = _unit(dirs[0])
+    o0 = points[0] - (points[0] @ z0) * z0          # foot of the base origin on axis 1
+    x0 = _perp(np.array([1.0, 0.0, 0.0]), z0)
+    if x0 is None:
+        x0 = _perp(np.array([0.0, 1.0, 0.0]), z0)
+    frames = [_frame(o0, x0, z0)]
+    for i in range(1, n):
+        frames.append(_next_frame(frames[-1], points[i], _unit(dirs[i])))
+    Fl = frames[-1]
+    o, z = Fl[:3, 3], Fl[:3, 2]
+    on = o + ((tip[:3, 3] - o) @ z) * z
+    xn = _perp(tip[:3, 0], z)
+    if xn is None:
+        xn = _perp(tip[:3, 1], z)
+    frames.append(_frame(on, xn, z))
+    return frames
+
+
+def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str | None = None) -> Chain:
+    """The rmtkit chain (SI; lengths in m, angles in rad) of a URDF serial chain, same FK.
+
+    ``convention`` is "standard" or "modified"; ``name`` defaults to the URDF robot's name made
+    lower-case with every other character than [a-z0-9] turned into "_".
+    """
+    if convention not in ("standard", "modified"):
+        raise UrdfError(f"convention {convention!r} unknown; allowed: standard, modified", sc.path)
+    points, dirs = sc.axes_at_zero()
+    tip = sc.fk(np.zeros(sc.n))
+    frames = dh_frames(points, dirs, tip)
+    joints = []
+    for i, (uj, Fa, Fb) in enumerate(zip(sc.joints, frames[:-1], frames[1:]), 1):
+        a, alpha, d, theta = _dh_of(np.linalg.solve(Fa, Fb), i, sc.path)
+        joints.append(Joint(uj.type, a=_snap(a, False), alpha=_snap(alpha, True), d=_snap(d, False),
+                            theta=_snap(theta, True), limits=uj.limits, name=uj.name, max_velocity=uj.max_velocity))
+    base, tool = frames[0], np.linalg.solve(frames[-1], tip)
+    if name is None:
+        name = re.sub(r"[^a-z0-9]+", "_", sc.robot_name.lower()).strip("_") or "imported"
+    elif not NAME_RE.match(name):
+        raise UrdfError(f"robot name {name!r} must match [a-z0-9_]+", sc.path)
+    chain = Chain(name=name, joints=tuple(joints), convention="standard",
+                  title=f"{sc.robot_name or name}, {sc.base} to {sc.tip} (imported from URDF)",
+                  source=f"converted from the URDF file {sc.path.rsplit('/', 1)[-1]} (chain {sc.base} -> {sc.tip}) "
+                         "by rmt import-urdf" + ("; continuous joints get limits of one turn [-pi, pi]"
+                                                 if any(j.continuous for j in sc.joints) else ""),
+                  base=_placement(base), tool=_placement(tool))
+    return chain.to_modified() if convention == "modified" else chain
+
+
+def _placement(T: np.ndarray) -> Placement:
+    T = np.where(np.abs(T) < SNAP, 0.0, T)
+    T[3] = (0.0, 0.0, 0.0, 1.0)
+    return Placement() if np.array_equal(T, np.eye(4)) else Placement.from_matrix(T)
+
+
+def import_urdf(path: str, base: str | None = None, tip: str | None = None, convention: str = "standard",
+                name: str | None = None) -> Chain:
+    """Read a URDF file and convert the chain ``base`` → ``tip`` to an rmtkit :class:`~kin.Chain`.
+
+    Defaults: base = the root link, tip = the only leaf link (an error lists the leaves when there
+    are several).  Fixed joints fold into the neighbouring transforms; revolute, continuous and
+    prismatic joints become DH rows in ``convention``; base and tool transforms make FK identical.
+    """
+    return chain_from_serial(read_serial_chain(path, base, tip), convention, name)
+

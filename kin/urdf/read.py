@@ -1,0 +1,233 @@
+"""Reading a URDF: parse it with yourdfpy, check the link tree, pick the serial chain base → tip.
+
+The result, :class:`SerialChain`, is the URDF's own kinematics of that chain (SI units): for each
+movable joint the fixed transform from the previous joint's moving frame (fixed joints folded in),
+its unit axis and its limits, and the fixed transform from the last joint to the tip link.  Its
+:meth:`SerialChain.fk` is the URDF forward kinematics, ``origin_1·M_1(q_1) ⋯ origin_n·M_n(q_n)·tip``
+with ``M`` a rotation about (revolute, continuous) or a translation along (prismatic) the axis.
+"""
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+
+from kin.urdf.errors import UrdfError
+
+#: range given to a continuous joint (one turn: every orientation), rad
+CONTINUOUS_LIMITS = (-math.pi, math.pi)
+#: a revolute range beyond this (rad) is refused, as the robot-file loader refuses it
+MAX_REVOLUTE_LIMIT = 8 * math.pi
+MOVABLE = ("revolute", "continuous", "prismatic")
+REFUSED = {"floating": "a floating joint (6 degrees of freedom) is not a serial-chain joint",
+           "planar": "a planar joint (3 degrees of freedom) is not a serial-chain joint"}
+
+
+@dataclass(frozen=True)
+class UrdfJoint:
+    """One movable joint of the chain, SI units."""
+
+    name: str
+    type: Literal["revolute", "prismatic"]   # a continuous joint is revolute, with ``continuous`` set
+    origin: np.ndarray                       # (4, 4): previous joint's moving frame (or the base link) → this joint's frame
+    axis: np.ndarray                         # (3,) unit, in this joint's frame
+    limits: tuple[float, float]
+    max_velocity: float | None = None        # rad/s or m/s
+    continuous: bool = False
+
+
+@dataclass(frozen=True)
+class SerialChain:
+    """The serial chain from ``base`` to ``tip`` of a URDF file (SI units)."""
+
+    path: str
+    robot_name: str
+    base: str
+    tip: str
+    joints: tuple[UrdfJoint, ...]
+    tip_offset: np.ndarray                   # (4, 4): last joint's moving frame → tip link
+
+    @property
+    def n(self) -> int:
+        return len(self.joints)
+
+    def fk(self, q) -> np.ndarray:
+        """Pose (4, 4) of the tip link in the base link's frame at configuration ``q`` (n,)."""
+        q = np.asarray(q, dtype=float)
+        T = np.eye(4)
+        for j, v in zip(self.joints, q):
+            T = T @ j.origin @ joint_motion(j, float(v))
+        return T @ self.tip_offset
+
+    def axes_at_zero(self) -> tuple[np.ndarray, np.ndarray]:
+        """Points (n, 3) on the joint axes and unit directions (n, 3), base-link frame, q = 0."""
+        T = np.eye(4)
+        points, dirs = [], []
+        for j in self.joints:
+            T = T @ j.origin
+            points.append(T[:3, 3].copy())
+            dirs.append(T[:3, :3] @ j.axis)
+        return np.array(points), np.array(dirs)
+
+
+def joint_motion(j: UrdfJoint, q: float) -> np.ndarray:
+    """The joint's own motion (4, 4): rotation by q about its axis, or translation by q along it."""
+    M = np.eye(4)
+    if j.type == "prismatic":
+        M[:3, 3] = q * j.axis
+        return M
+    k = j.axis
+    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    M[:3, :3] = np.eye(3) + math.sin(q) * K + (1.0 - math.cos(q)) * (K @ K)
+    return M
+
+
+def load_urdf_model(path: str | Path):
+    """Parse a URDF file with yourdfpy (no meshes, no scene graph); errors become :class:`UrdfError`."""
+    import yourdfpy
+
+    path = str(path)
+    if not Path(path).is_file():
+        raise UrdfError("no such file", path)
+    quiet = logging.getLogger("yourdfpy")      # it logs parse errors itself; ours is the one message
+    level = quiet.level
+    quiet.setLevel(logging.CRITICAL)
+    try:
+        with np.errstate(all="ignore"):
+            model = yourdfpy.URDF.load(path, build_scene_graph=False, build_collision_scene_graph=False,
+                                       load_meshes=False, load_collision_meshes=False)
+    except Exception as e:  # noqa: BLE001 -- lxml, yourdfpy and attribute errors alike: not a URDF
+        raise UrdfError(f"not a readable URDF ({type(e).__name__}: {str(e).strip() or 'malformed XML'})",
+                        path, "robot") from None
+    finally:
+        quiet.setLevel(level)
+    if model.robot is None or not model.robot.links:
+        raise UrdfError("the URDF has no <link>", path, "robot")
+    return model
+
+
+def read_serial_chain(path: str | Path, base: str | None = None, tip: str | None = None) -> SerialChain:
+    """The serial chain from link ``base`` (default: the root) to link ``tip`` (default: the only leaf)."""
+    path = str(path)
+    robot = load_urdf_model(path).robot
+    links = [lk.name for lk in robot.links]
+    if len(set(links)) != len(links):
+        dup = next(n for n in links if links.count(n) > 1)
+        raise UrdfError("two links have this name", path, f"link {dup!r}")
+    parent_joint: dict[str, object] = {}
+    children: dict[str, list] = {n: [] for n in links}
+    seen_joints: set[str] = set()
+    for j in robot.joints:
+        el = f"joint {j.name!r}"
+        if j.name in seen_joints:
+            raise UrdfError("two joints have this name", path, el)
+        seen_joints.add(j.name)
+        for role, link in (("parent", j.parent), ("child", j.child)):
+            if link not in children:
+                raise UrdfError(f"its {role} link {link!r} is not defined", path, el)
+        if j.child in parent_joint:
+            raise UrdfError(f"link {j.child!r} has two parent joints; a URDF must be a tree", path, el)
+        parent_joint[j.child] = j
+        children[j.parent].append(j)
+    roots = [n for n in links if n not in parent_joint]
+    if len(roots) != 1:
+        raise UrdfError(f"the links form {'a loop' if not roots else 'several trees'}; a URDF has one root link"
+                        + (f" (roots: {', '.join(roots)})" if roots else ""), path, "robot")
+    base = roots[0] if base is None else base
+    if base not in children:
+        raise UrdfError(f"base link {base!r} is not defined; links: {', '.join(links)}", path)
+    if tip is None:
+        leaves = _leaves_below(base, children)
+        if len(leaves) != 1:
+            raise UrdfError(f"the tree below {base!r} has {len(leaves)} leaf links; choose the tip link "
+                            f"(--tip) from: {', '.join(leaves)}", path)
+        tip = leaves[0]
+    if tip not in children:
+        raise UrdfError(f"tip link {tip!r} is not defined; links: {', '.join(links)}", path)
+
+    path_joints = []
+    link = tip
+    while link != base:
+        if link not in parent_joint:
+            above = _ancestors(tip, parent_joint)
+            raise UrdfError(f"tip link {tip!r} is not below base link {base!r}; links above it: "
+                            f"{', '.join(above) or 'none'}", path)
+        j = parent_joint[link]
+        path_joints.append(j)
+        link = j.parent
+    path_joints.reverse()
+
+    joints: list[UrdfJoint] = []
+    acc = np.eye(4)
+    for j in path_joints:
+        origin = np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=float)
+        el = f"joint {j.name!r}"
+        if not np.all(np.isfinite(origin)):
+            raise UrdfError("its <origin> holds a NaN or infinite value", path, el)
+        if j.type == "fixed":
+            acc = acc @ origin
+            continue
+        if j.type in REFUSED:
+            raise UrdfError(f"{REFUSED[j.type]}; rmtkit imports revolute, continuous, prismatic and fixed joints",
+                            path, el)
+        if j.type not in MOVABLE:
+            raise UrdfError(f"type {j.type!r} unknown; allowed: revolute, continuous, prismatic, fixed", path, el)
+        if j.mimic is not None:
+            raise UrdfError(f"a mimic joint (its value follows joint {j.mimic.joint!r}) is not an independent "
+                            "joint; rmtkit chains have independent joints only", path, el)
+        joints.append(_movable(j, acc @ origin, path, el))
+        acc = np.eye(4)
+    if not joints:
+        raise UrdfError(f"the chain {base!r} → {tip!r} has no revolute, continuous or prismatic joint", path)
+    return SerialChain(path=path, robot_name=robot.name or "", base=base, tip=tip, joints=tuple(joints),
+                       tip_offset=acc)
+
+
+def _movable(j, origin: np.ndarray, path: str, el: str) -> UrdfJoint:
+    axis = np.array([1.0, 0.0, 0.0]) if j.axis is None else np.asarray(j.axis, dtype=float)
+    norm = float(np.linalg.norm(axis)) if axis.shape == (3,) else 0.0
+    if not np.all(np.isfinite(axis)) or norm < 1e-9:
+        raise UrdfError(f"its <axis> {axis.tolist()} must be three finite numbers, not all zero", path, el)
+    if j.type == "prismatic" and abs(norm - 1.0) > 1e-3:
+        # tools disagree on a longer axis (a unit step, or a step of its length): refuse rather than guess
+        raise UrdfError(f"the <axis> {axis.tolist()} of a prismatic joint must be a unit vector (norm {norm:.6g})",
+                        path, el)
+    axis = axis / norm
+    lim = j.limit
+    velocity = None
+    if lim is not None and lim.velocity is not None and math.isfinite(lim.velocity) and lim.velocity > 0:
+        velocity = float(lim.velocity)
+    if j.type == "continuous":
+        return UrdfJoint(j.name, "revolute", origin, axis, CONTINUOUS_LIMITS, velocity, continuous=True)
+    if lim is None or lim.lower is None or lim.upper is None:
+        raise UrdfError(f"a {j.type} joint needs <limit lower=… upper=…>", path, el)
+    lo, hi = float(lim.lower), float(lim.upper)
+    if not (math.isfinite(lo) and math.isfinite(hi)) or not lo < hi:
+        raise UrdfError(f"<limit> lower = {lo:g}, upper = {hi:g} must be finite with lower < upper "
+                        "(a joint that cannot move should be fixed)", path, el)
+    if j.type == "revolute" and max(abs(lo), abs(hi)) > MAX_REVOLUTE_LIMIT:
+        raise UrdfError(f"<limit> [{lo:g}, {hi:g}] rad exceeds ±8π rad, four turns", path, el)
+    return UrdfJoint(j.name, j.type, origin, axis, (lo, hi), velocity)
+
+
+def _leaves_below(base: str, children: dict[str, list]) -> list[str]:
+    leaves, stack = [], [base]
+    while stack:
+        link = stack.pop()
+        kids = [j.child for j in children[link]]
+        if not kids:
+            leaves.append(link)
+        stack.extend(reversed(kids))
+    return leaves
+
+
+def _ancestors(link: str, parent_joint: dict) -> list[str]:
+    out = []
+    while link in parent_joint:
+        link = parent_joint[link].parent
+        out.append(link)
+    return out

@@ -1,0 +1,131 @@
+"""Writing a chain as URDF: one link per DH frame, simple cylinder visuals, the same FK.
+
+Each DH row is split around its joint motion, A_i = Pre_i · M(q_i) · Post_i, with M a rotation
+about z (revolute) or a translation along z (prismatic):
+
+* standard: Pre = I,            Post = Rz(θ)·Tz(d)·Tx(a)·Rx(α)   (Tz(q) commutes with Rz(θ))
+* modified: Pre = Rx(α)·Tx(a),  Post = Rz(θ)·Tz(d)                (Rz(θ) commutes with Tz(q))
+
+URDF joint i then has axis z and origin Post_{i-1}·Pre_i (Post_0 = the base transform); a fixed
+joint with origin Post_n·tool carries the ``tool`` link.  Design parameters are written at their
+nominal values.  The XML is written with the standard library's ElementTree.
+"""
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+
+from kin.chain import Chain
+from kin.transforms import make_transform, matrix_to_rpy, rot_x, rot_z
+
+GREY = "0.6 0.6 0.65 1"
+ORANGE = "0.95 0.5 0.1 1"
+
+
+def _tz(d: float) -> np.ndarray:
+    return make_transform(None, [0.0, 0.0, d])
+
+
+def _split(chain: Chain) -> list[tuple[np.ndarray, np.ndarray]]:
+    """(Pre_i, Post_i) of every row of a chain without design parameters."""
+    out = []
+    for a, alpha, d, theta in chain.dh_table():
+        if chain.convention == "standard":
+            pre = np.eye(4)
+            post = make_transform(rot_z(theta)) @ _tz(d) @ make_transform(rot_x(alpha), [a, 0.0, 0.0])
+        else:
+            pre = make_transform(rot_x(alpha)) @ make_transform(None, [a, 0.0, 0.0])
+            post = make_transform(rot_z(theta)) @ _tz(d)
+        out.append((pre, post))
+    return out
+
+
+def _num(x: float) -> str:
+    x = float(x) + 0.0        # no "-0.0"
+    return repr(x)
+
+
+def _origin(parent: ET.Element, T: np.ndarray) -> None:
+    ET.SubElement(parent, "origin", xyz=" ".join(_num(v) for v in T[:3, 3]),
+                  rpy=" ".join(_num(v) for v in matrix_to_rpy(T[:3, :3])))
+
+
+def _cylinder(link: ET.Element, T: np.ndarray, radius: float, length: float, colour: str) -> None:
+    vis = ET.SubElement(link, "visual")
+    _origin(vis, T)
+    geo = ET.SubElement(vis, "geometry")
+    ET.SubElement(geo, "cylinder", radius=_num(radius), length=_num(length))
+    ET.SubElement(vis, "material", name=colour)
+
+
+def _segment(link: ET.Element, p: np.ndarray, radius: float) -> None:
+    """A cylinder from the link frame's origin to point ``p`` (link frame)."""
+    length = float(np.linalg.norm(p))
+    if length < 1e-9:
+        return
+    z = p / length
+    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = np.cross(helper, z)
+    x /= np.linalg.norm(x)
+    _cylinder(link, make_transform(np.column_stack([x, np.cross(z, x), z]), p / 2), radius, length, "rmt_grey")
+
+
+def _joint_names(chain: Chain) -> list[str]:
+    names, seen = [], set()
+    for i, nm in enumerate(chain.joint_names(), 1):
+        nm = nm if nm not in seen else f"{nm}_{i}"
+        seen.add(nm)
+        names.append(nm)
+    return names
+
+
+def chain_to_urdf(chain: Chain) -> str:
+    """URDF text of ``chain`` (SI: metres, radians): links ``base_link``, ``link_1``…``link_n``, ``tool``."""
+    chain = chain.frozen()
+    parts = _split(chain)
+    origins = [chain.base.matrix @ parts[0][0]]
+    origins += [parts[i - 1][1] @ parts[i][0] for i in range(1, chain.n)]
+    origins.append(parts[-1][1] @ chain.tool.matrix)            # the fixed tool joint
+    size = sum(float(np.linalg.norm(T[:3, 3])) for T in origins)
+    radius = max(0.005, 0.025 * size)
+
+    robot = ET.Element("robot", name=chain.name)
+    for name, rgba in (("rmt_grey", GREY), ("rmt_joint", ORANGE)):
+        ET.SubElement(ET.SubElement(robot, "material", name=name), "color", rgba=rgba)
+    links = ["base_link"] + [f"link_{i}" for i in range(1, chain.n + 1)] + ["tool"]
+    for k, lname in enumerate(links):
+        link = ET.SubElement(robot, "link", name=lname)
+        if lname == "tool":
+            continue
+        if k == 0:       # a pedestal under the base frame
+            _cylinder(link, make_transform(None, [0.0, 0.0, -radius / 2]), 2.0 * radius, radius, "rmt_grey")
+        else:            # the joint that moves this link: a short cylinder along its axis (z)
+            _cylinder(link, np.eye(4), 1.4 * radius, 3.0 * radius, "rmt_joint")
+        _segment(link, origins[k][:3, 3], radius)
+    for i, (j, jname) in enumerate(zip(chain.joints, _joint_names(chain))):
+        el = ET.SubElement(robot, "joint", name=jname, type=j.type)
+        ET.SubElement(el, "parent", link=links[i])
+        ET.SubElement(el, "child", link=links[i + 1])
+        _origin(el, origins[i])
+        ET.SubElement(el, "axis", xyz="0 0 1")
+        ET.SubElement(el, "limit", lower=_num(j.limits[0]), upper=_num(j.limits[1]), effort="0",
+                      velocity=_num(j.max_velocity or 0.0))
+    el = ET.SubElement(robot, "joint", name="tool_joint", type="fixed")
+    ET.SubElement(el, "parent", link=links[-2])
+    ET.SubElement(el, "child", link="tool")
+    _origin(el, origins[-1])
+    ET.indent(robot)
+    title = (chain.title or chain.name).replace("--", "- -").rstrip("-")   # "--" may not appear in a comment
+    head = f"<?xml version=\"1.0\"?>\n<!-- {title}: written by rmtkit (rmt export-urdf) -->\n"
+    return head + ET.tostring(robot, encoding="unicode") + "\n"
+
+
+def save_urdf(chain: Chain, path: str | Path) -> Path:
+    """Write ``chain`` as a URDF file (atomically: a temporary file, then rename)."""
+    path = Path(path)
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(chain_to_urdf(chain), encoding="utf-8")
+    tmp.replace(path)
+    return path
