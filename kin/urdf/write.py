@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from kin.chain import Chain
+from kin.output import write_output
 from kin.transforms import make_transform, matrix_to_rpy, rot_x, rot_z
 
 GREY = "0.6 0.6 0.65 1"
@@ -123,9 +124,6 @@ def chain_to_urdf(chain: Chain) -> str:
 
 
 def save_urdf(chain: Chain, path: str | Path) -> Path:
-    """Write ``chain`` as a URDF file (atomically: a temporary file, then rename)."""
-    path = Path(path)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(chain_to_urdf(chain), encoding="utf-8")
-    tmp.replace(path)
-    return path
+    """Write ``chain`` as a URDF file through :func:`kin.output.write_output` (never replaces
+    anything but a regular file; a temporary file beside it, then rename)."""
+    return write_output(path, chain_to_urdf(chain))
