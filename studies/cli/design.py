@@ -1,0 +1,116 @@
+"""``rmt coverage`` and ``rmt optimise``: task coverage decided by IK, and link-parameter (and
+joint-type) optimisation of a design task.  Heavy imports stay inside the command functions."""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import kin
+
+from studies.cli.common import EXIT_FAIL, EXIT_OK, CliInputError, dump, jsonable
+
+#: bundled example task files: ``rmt optimise NAME`` finds ``NAME.toml`` here
+TASK_DIR = Path(__file__).parent.parent / "tasks"
+
+
+def bundled_tasks() -> list[str]:
+    return sorted(p.stem for p in TASK_DIR.glob("*.toml"))
+
+
+def task_file(arg: str) -> Path:
+    """A task argument → an existing file: a path, or the name of a bundled example."""
+    p = Path(arg)
+    if p.is_file():
+        return p
+    if not p.suffix and "/" not in arg and (TASK_DIR / f"{arg}.toml").is_file():
+        return TASK_DIR / f"{arg}.toml"
+    raise CliInputError(f"{arg}: no such task file or bundled task; bundled: {', '.join(bundled_tasks())}")
+
+
+def _params(robot: kin.Robot, items: list[str] | None) -> dict[str, float]:
+    """NAME=VALUE pairs in the robot file's units → SI mapping."""
+    out = {}
+    c = robot.chain
+    for it in items or []:
+        name, _, val = it.partition("=")
+        if name not in c.parameters:
+            raise CliInputError(f"--param {it!r}: unknown design parameter; {c.name} has "
+                                f"{', '.join(c.parameters) or 'none'}")
+        try:
+            x = float(val)
+        except ValueError:
+            raise CliInputError(f"--param {it!r}: value must be a number") from None
+        scale = c.length_scale if c.parameters[name].kind == "length" else c.angle_scale
+        lo, hi = c.parameters[name].bounds
+        if not (lo - 1e-12 <= x * scale <= hi + 1e-12):
+            raise CliInputError(f"--param {it!r}: outside the bounds [{lo / scale:g}, {hi / scale:g}]")
+        out[name] = x * scale
+    return out
+
+
+def _budget(args) -> None:
+    if not 1 <= args.seeds <= 64:
+        raise CliInputError(f"--seeds {args.seeds} must be in [1, 64]")
+    if not 100 <= args.samples <= 5_000_000:
+        raise CliInputError(f"--samples {args.samples} must be in [100, 5000000]")
+    if args.seed < 0:
+        raise CliInputError(f"--seed {args.seed} must be ≥ 0")
+
+
+def cmd_coverage(args, load_robot) -> int:
+    from design.coverage import coverage
+    from design.task import Dexterity, load_task
+    from design.task.model import Targets
+    from design.task.targets import read_points_csv
+    _budget(args)
+    robot = load_robot(args.robot)
+    c = robot.chain
+    path = task_file(args.target) if not args.target.endswith(".csv") else Path(args.target)
+    if path.suffix == ".csv":
+        if not path.is_file():
+            raise CliInputError(f"{path}: no such points file")
+        P, axes = read_points_csv(path, c.length_scale)
+        targets, dex = Targets(P, "axis" if axes is not None else "free", axes), Dexterity()
+    else:
+        task = load_task(path, robot=robot)
+        targets, dex = task.targets, task.dexterity
+    if args.sigma_min is not None or args.manipulability is not None:
+        if args.sigma_min is not None and args.manipulability is not None:
+            raise CliInputError("give --sigma-min or --manipulability, not both")
+        if args.manipulability is not None:
+            dex = Dexterity("manipulability", args.manipulability)
+        elif args.characteristic_length is not None:
+            dex = Dexterity("sigma_min_full", args.sigma_min, args.characteristic_length * c.length_scale)
+        else:
+            dex = Dexterity("sigma_min", args.sigma_min)
+    cov = coverage(robot, targets, dex, params=_params(robot, args.param), seeds=args.seeds,
+                   samples=args.samples, seed=args.seed)
+    if args.plot:
+        from studies.plots.design import plot_coverage
+        plot_coverage(targets.positions / c.length_scale, cov, args.plot, c.length_unit, robot.name)
+    out = cov.to_dict()
+    out["positions"] = targets.positions / c.length_scale
+    out["units"] = {"length": c.length_unit, "positions": c.length_unit}
+    if args.json:
+        print(dump(out))
+    else:
+        print(f"{robot.name}: {len(targets)} targets, reached {100 * cov.reach_fraction:.1f} %, covered "
+              f"{100 * cov.fraction:.1f} % ({cov.measure} ≥ {cov.threshold:g}), {cov.flips} flip across "
+              f"{args.seeds} seeds, GCI {cov.gci:.3f}")
+    return EXIT_OK if cov.covered.all() else EXIT_FAIL
+
+
+def add_commands(add) -> None:
+    sp = add("coverage", cmd_coverage, "task coverage decided by IK: reach %, per-target best σ_min, seed flips")
+    sp.add_argument("robot", help="bundled robot name or robot file")
+    sp.add_argument("target", help="task file (its target and dexterity), bundled task name, or points CSV "
+                                   "(x, y, z[, ax, ay, az] in the robot's length unit)")
+    sp.add_argument("--sigma-min", type=float, help="σ_min ≥ S of the translational rows (SI, m/rad)")
+    sp.add_argument("--characteristic-length", type=float,
+                    help="with --sigma-min: of the full Jacobian scaled by this length (robot length unit)")
+    sp.add_argument("--manipulability", type=float, help="manipulability ≥ M of the task rows")
+    sp.add_argument("--param", nargs="+", metavar="NAME=VALUE", help="design parameters (robot file units)")
+    sp.add_argument("--seeds", type=int, default=4, help="IK seeds per target (default 4)")
+    sp.add_argument("--samples", type=int, default=20_000, help="sampled configurations for the seed index")
+    sp.add_argument("--seed", type=int, default=0)
+    sp.add_argument("--plot", help="write the targets coloured by their best σ_min score (PNG)")
