@@ -27,7 +27,8 @@ import kin
 from design.task.model import Dexterity, Targets, TaskError
 from design.task.targets import axis_frames
 
-__all__ = ["Coverage", "coverage", "coverage_of_designs", "dexterity_jacobian", "dexterity_measure"]
+__all__ = ["Coverage", "coverage", "coverage_of_designs", "dexterity_jacobian", "dexterity_measure",
+           "seed_configurations"]
 
 
 @dataclass
@@ -98,6 +99,29 @@ def dexterity_measure(robot: kin.Robot, Q: np.ndarray, dex: Dexterity, P: np.nda
     return sv[:, -1], inv_cond
 
 
+def seed_configurations(robot: kin.Robot, targets: Targets, P: np.ndarray, k: int, Qs: np.ndarray) -> np.ndarray:
+    """IK seeds: for every target the k sampled configurations Qs (M, n) whose tool positions (and
+    tool axes, weighted by the targets' extent, when the task has axes) are nearest, found with a
+    scikit-learn KD-tree.  P is one design (n_p,) → (N, k, n), or D designs (D, n_p) → (D, N, k, n);
+    the forward kinematics of all designs run as one batch."""
+    P = np.asarray(P, float)
+    one = P.ndim == 1
+    P = np.atleast_2d(P)
+    D, M = len(P), len(Qs)
+    scale = max(float(np.ptp(targets.positions, axis=0).max()), 0.1)
+    query = targets.positions if targets.axes is None else np.hstack([targets.positions, scale * targets.axes])
+    out = np.empty((D, len(targets), k, robot.n))
+    per = max(1, (1 << 20) // M)                     # designs per FK batch (about a million rows)
+    for s in range(0, D, per):
+        Pc = P[s:s + per]
+        T = robot.fk(np.tile(Qs, (len(Pc), 1)), params=np.repeat(Pc, M, axis=0)).reshape(len(Pc), M, 4, 4)
+        for d in range(len(Pc)):
+            feats = T[d, :, :3, 3] if targets.axes is None else np.hstack([T[d, :, :3, 3], scale * T[d, :, :3, 2]])
+            nn = NearestNeighbors(n_neighbors=k, algorithm="kd_tree").fit(feats)
+            out[s + d] = Qs[nn.kneighbors(query, return_distance=False)]
+    return out[0] if one else out
+
+
 def _variants(targets: Targets, spins: int) -> np.ndarray | None:
     """Target rotations (N, V, 3, 3) to try per target, or None for position-only targets."""
     if targets.orientation == "free":
@@ -139,17 +163,7 @@ def coverage_of_designs(robot: kin.Robot, targets: Targets, dexterity: Dexterity
     nv = 1 if V is None else V.shape[1]
     Qs = robot.random_configurations(samples, seed=seed)
     k = min(seeds, samples)
-    # seeds: per design, the k nearest sampled tool positions (and tool axes, weighted by a length)
-    scale = max(float(np.ptp(targets.positions, axis=0).max()), 0.1)
-    starts = np.empty((D, N, k, n))
-    for d in range(D):
-        T = robot.fk(Qs, params=P[d])
-        feats, query = T[:, :3, 3], targets.positions
-        if targets.axes is not None:
-            feats = np.hstack([feats, scale * T[:, :3, 2]])
-            query = np.hstack([query, scale * targets.axes])
-        idx = NearestNeighbors(n_neighbors=k).fit(feats).kneighbors(query, return_distance=False)
-        starts[d] = Qs[idx]
+    starts = seed_configurations(robot, targets, P, k, Qs)
     rows_d = np.repeat(np.arange(D), N * nv)                 # row layout: design, target, variant
     rows_t = np.tile(np.repeat(np.arange(N), nv), D)
     if V is None:

@@ -114,3 +114,81 @@ def add_commands(add) -> None:
     sp.add_argument("--samples", type=int, default=20_000, help="sampled configurations for the seed index")
     sp.add_argument("--seed", type=int, default=0)
     sp.add_argument("--plot", help="write the targets coloured by their best σ_min score (PNG)")
+    add_optimise(add)
+
+
+def _write_outputs(res, out_dir: Path) -> list[Path]:
+    """design.json (strict JSON), the optimised robot file, coverage / history plots."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    written = [out_dir / "design.json"]
+    written[0].write_text(dump(res.to_dict()) + "\n")
+    written.append(kin.save_robot(res.chain, out_dir / f"{res.robot.name}_optimised.toml"))
+    return written
+
+
+def cmd_optimise(args, load_robot) -> int:
+    from design.optimise import VerifySettings, optimise
+    from design.task import load_task
+    _budget(args)
+    if not 1 <= args.starts <= 1000:
+        raise CliInputError(f"--starts {args.starts} must be in [1, 1000]")
+    if not 0 < args.max_time <= 86_400:
+        raise CliInputError(f"--max-time {args.max_time} must be in (0, 86400] s")
+    path = task_file(args.task)
+    task = load_task(path)
+    tty = sys.stderr.isatty() and not args.json
+    progress = (lambda line: print(f"  {line}", file=sys.stderr)) if tty else None
+    settings = VerifySettings(seeds=args.seeds, samples=args.samples, seed=args.seed)
+    if task.architectures:
+        from design.architecture import optimise_architectures
+        ranking = optimise_architectures(task, method=args.method, starts=args.starts, seed=args.seed,
+                                         settings=settings, max_time=args.max_time, progress=progress)
+        out = ranking.to_dict()
+        out_dir = Path(args.out) / task.name
+        out_dir.mkdir(parents=True, exist_ok=True)
+        (out_dir / "design.json").write_text(dump(out) + "\n")
+        from studies.plots.design import plot_ranking
+        plot_ranking(ranking.names, ranking.objectives, ranking.coverages, out_dir / "ranking.png",
+                     task.objective)
+        if args.json:
+            print(dump(out))
+        else:
+            print(ranking.table())
+            print(f"wrote {out_dir / 'design.json'}, {out_dir / 'ranking.png'}")
+        return EXIT_OK if any(ranking.feasible) else EXIT_FAIL
+    res = optimise(task, method=args.method, starts=args.starts, seed=args.seed, settings=settings,
+                   max_time=args.max_time, progress=progress)
+    out_dir = Path(args.out) / task.name
+    written = _write_outputs(res, out_dir)
+    from studies.plots.design import plot_coverage, plot_history
+    c = res.robot.chain
+    written.append(plot_coverage(task.targets.positions / c.length_scale, res.verification,
+                                 out_dir / "coverage.png", c.length_unit, f"{task.name} ({res.method})"))
+    if any(res.history):
+        written.append(plot_history(res.history, out_dir / "history.png", task.objective, task.name))
+    out = jsonable(res.to_dict())
+    if args.json:
+        print(dump(out))
+    else:
+        pars = ", ".join(f"{k} = {v:.6g} {c.length_unit if c.parameters[k].kind == 'length' else c.angle_unit}"
+                         for k, v in res.params_in_file_units().items())
+        v = res.verification
+        print(f"{task.name} ({res.method}): {pars}")
+        print(f"  objective {task.objective} = {res.objective:.6g}; verified coverage {100 * v.fraction:.1f} % "
+              f"({v.flips} flip across {v.verdicts.shape[1]} seeds), GCI {v.gci:.3f}; "
+              f"{'feasible' if res.feasible else 'NOT feasible'}; {res.time_s:.2f} s")
+        print(f"  wrote {', '.join(str(p) for p in written)}")
+    return EXIT_OK if res.feasible else EXIT_FAIL
+
+
+def add_optimise(add) -> None:
+    sp = add("optimise", cmd_optimise, "optimise a design task's link parameters (and joint types); "
+                                       "the answer re-verified by IK coverage")
+    sp.add_argument("task", help="task file or bundled task name")
+    sp.add_argument("--method", choices=("ipopt", "de"), default="ipopt")
+    sp.add_argument("--starts", type=int, default=4, help="IPOPT starts (default 4)")
+    sp.add_argument("--seed", type=int, default=0)
+    sp.add_argument("--seeds", type=int, default=4, help="IK seeds per target in the verification")
+    sp.add_argument("--samples", type=int, default=20_000, help="sampled configurations for the seed index")
+    sp.add_argument("--max-time", type=float, default=600.0, help="solver time budget, s (default 600)")
+    sp.add_argument("--out", default="out", help="output folder (default out/); writes OUT/NAME/")
