@@ -10,7 +10,7 @@ import numpy as np
 
 import kin
 
-__all__ = ["structural_length", "ConvergedVolume", "converged_volume", "length_index"]
+__all__ = ["structural_length", "ConvergedVolume", "converged_volume", "length_index", "design_metrics"]
 
 
 def structural_length(chain: kin.Chain, params=None) -> float:
@@ -69,3 +69,19 @@ def length_index(robot: kin.Robot, params=None, samples: int = 20_000, seed: int
     cv = converged_volume(robot, p, start=samples, tolerance=tolerance, seed=seed)
     root = cv.volume ** (1 / 3) if cv.dimension == 3 else cv.volume ** 0.5
     return structural_length(robot.chain, p) / root if root > 0 else float("inf")
+
+
+def design_metrics(robot: kin.Robot, params, gci: float, volume: bool = False, samples: int = 50_000,
+                   tolerance: float = 0.02, max_samples: int = 2_000_000, seed: int = 0) -> dict:
+    """The metrics of one design (SI): structural length, GCI (given, from the coverage), and with
+    ``volume`` the converged workspace volume (with its voxel, samples, convergence) and Q_L."""
+    p = robot.chain.parameter_vector(params)
+    out = {"structural_length_m": structural_length(robot.chain, p), "gci": gci}
+    if volume:
+        cv = converged_volume(robot, p, start=samples, tolerance=tolerance, max_samples=max_samples, seed=seed)
+        root = cv.volume ** (1 / 3) if cv.dimension == 3 else cv.volume ** 0.5
+        out["workspace"] = {"volume": cv.volume, "unit": "m^3" if cv.dimension == 3 else "m^2", "voxel_m": cv.voxel,
+                            "samples": cv.samples, "converged": cv.converged, "tolerance": cv.tolerance,
+                            "history": [list(h) for h in cv.history]}
+        out["length_index"] = out["structural_length_m"] / root if root > 0 else None
+    return out

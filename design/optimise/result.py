@@ -17,7 +17,8 @@ class DesignResult:
     design, computed from the verified metric (coverage fraction for "coverage", GCI for "gci", m for
     "length"); ``feasible``: the verified coverage meets ``min_coverage``; ``verification``: the
     independent coverage check; ``solver``: method-specific statistics (IPOPT's per start, or the
-    DE run's); ``history``: objective per iteration (one list per start); ``time_s``: wall time."""
+    DE run's); ``metrics``: further metrics of the design (:func:`design.metrics.design_metrics`);
+    ``history``: objective per iteration (one list per start); ``time_s``: wall time."""
 
     task: str
     method: str
@@ -32,6 +33,7 @@ class DesignResult:
     time_s: float = 0.0
     length_unit: str = "m"
     architecture: str = ""
+    metrics: dict[str, Any] = field(default_factory=dict)
 
     @property
     def chain(self) -> kin.Chain:
@@ -51,5 +53,5 @@ class DesignResult:
                 "parameters": self.params_in_file_units(),
                 "units": {"parameters": c.length_unit, "objective": "m" if self.objective_name in ("length",) else "1"},
                 "objective": {"name": self.objective_name, "value": self.objective},
-                "feasible": self.feasible, "verified": v.to_dict(),
+                "feasible": self.feasible, "verified": v.to_dict(), "metrics": self.metrics,
                 "solver": self.solver, "history": self.history, "time_s": self.time_s}

@@ -158,6 +158,9 @@ def cmd_optimise(args, load_robot) -> int:
         return EXIT_OK if any(ranking.feasible) else EXIT_FAIL
     res = optimise(task, method=args.method, starts=args.starts, seed=args.seed, settings=settings,
                    max_time=args.max_time, progress=progress)
+    from design.metrics import design_metrics
+    res.metrics = design_metrics(res.robot, res.params, res.verification.gci, volume=args.volume,
+                                           seed=args.seed)
     out_dir = Path(args.out) / task.name
     written = _write_outputs(res, out_dir)
     from studies.plots.design import plot_coverage, plot_history
@@ -177,6 +180,12 @@ def cmd_optimise(args, load_robot) -> int:
         print(f"  objective {task.objective} = {res.objective:.6g}; verified coverage {100 * v.fraction:.1f} % "
               f"({v.flips} flip across {v.verdicts.shape[1]} seeds), GCI {v.gci:.3f}; "
               f"{'feasible' if res.feasible else 'NOT feasible'}; {res.time_s:.2f} s")
+        m = res.metrics
+        if "workspace" in m:
+            w = m["workspace"]
+            print(f"  workspace {w['volume']:.4g} {w['unit']} (voxel {w['voxel_m']:.3g} m, {w['samples']} samples, "
+                  f"{'converged' if w['converged'] else 'NOT converged'} to {100 * w['tolerance']:g} %), "
+                  f"Q_L {m['length_index']:.4g}")
         print(f"  wrote {', '.join(str(p) for p in written)}")
     return EXIT_OK if res.feasible else EXIT_FAIL
 
@@ -192,3 +201,5 @@ def add_optimise(add) -> None:
     sp.add_argument("--samples", type=int, default=20_000, help="sampled configurations for the seed index")
     sp.add_argument("--max-time", type=float, default=600.0, help="solver time budget, s (default 600)")
     sp.add_argument("--out", default="out", help="output folder (default out/); writes OUT/NAME/")
+    sp.add_argument("--volume", action="store_true",
+                    help="also the converged workspace volume and the structural length index Q_L")
