@@ -28,7 +28,7 @@ import numpy as np
 import kin
 from design.task.model import Task, TaskError
 
-__all__ = ["NlpStart", "solve_nlp", "IPOPT_OBJECTIVES"]
+__all__ = ["NlpStart", "DesignNlp", "solve_nlp", "IPOPT_OBJECTIVES"]
 
 IPOPT_OBJECTIVES = ("length", "coverage")
 _EPS = 1e-9
@@ -108,67 +108,87 @@ def _orientation_terms(task: Task, k: int, R: ca.SX) -> tuple[list[ca.SX], list[
     return [], []
 
 
+class DesignNlp:
+    """The NLP of a task, built once (CasADi graph and IPOPT instance) and solved from many starts.
+
+    ``margin``: relative margin on the dexterity threshold; ``max_iter``, ``max_time`` (CPU s):
+    IPOPT's limits per solve."""
+
+    def __init__(self, task: Task, margin: float = 2e-3, max_iter: int = 1000, max_time: float = 120.0):
+        robot, chain, targets = task.robot, task.robot.chain, task.targets
+        if task.objective not in IPOPT_OBJECTIVES:
+            raise TaskError(f"objective {task.objective!r} is not smooth; IPOPT handles "
+                            f"{', '.join(IPOPT_OBJECTIVES)} (use the differential evolution method)")
+        if not chain.parameters:
+            raise TaskError(f"{robot.name} has no design parameters to optimise")
+        self.task = task
+        N, n, npar = len(targets), robot.n, len(chain.parameters)
+        self.N, self.n, self.npar = N, n, npar
+        self.cover = cover = task.objective == "coverage"
+        p = ca.SX.sym("p", npar)
+        Q = ca.SX.sym("Q", n, N)
+        S = ca.SX.sym("S", 3, N) if cover else ca.SX(3, 0)
+        fkj = robot.symbolic.fkj_function
+        g, lbg, ubg = [], [], []
+
+        def add(expr, lo, hi):
+            g.append(expr)
+            lbg.extend([lo] * expr.numel())
+            ubg.extend([hi] * expr.numel())
+
+        for k in range(N):
+            T, J = fkj(Q[:, k], p)
+            r = T[:3, 3] - ca.DM(targets.positions[k])
+            if cover:
+                add(r - S[:, k], -ca.inf, 0.0)
+                add(r + S[:, k], 0.0, ca.inf)
+            else:
+                add(r, 0.0, 0.0)
+            eq, ineq = _orientation_terms(task, k, T[:3, :3])
+            for e in eq:
+                add(e, 0.0, 0.0)
+            for e in ineq:
+                add(e, 0.0, ca.inf)
+            for e in _dexterity_terms(task, J, margin):
+                add(e, 0.0, ca.inf)
+        if task.total_length is not None:
+            add(_dh_length(chain, p) - task.total_length, 0.0, 0.0)
+        f = ca.sum1(ca.sum2(S)) / (N * max(task.total_length or 1.0, 1e-3)) if cover else _dh_length(chain, p)
+        x = ca.vertcat(p, ca.vec(Q), ca.vec(S))
+        self.bounds = np.array([par.bounds for par in chain.parameters.values()])
+        self.lbx = np.concatenate([self.bounds[:, 0], np.tile(chain.lower, N), np.zeros(S.numel())])
+        self.ubx = np.concatenate([self.bounds[:, 1], np.tile(chain.upper, N), np.full(S.numel(), np.inf)])
+        self.lbg, self.ubg = lbg, ubg
+        opts = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.max_iter": max_iter,
+                "ipopt.max_cpu_time": max_time, "ipopt.tol": 1e-9, "ipopt.acceptable_tol": 1e-6}
+        self.solver = ca.nlpsol("design", "ipopt", {"x": x, "f": f, "g": ca.vertcat(*g) if g else ca.SX(0, 1)}, opts)
+
+    def solve(self, p0: np.ndarray, q0: np.ndarray) -> NlpStart:
+        """One IPOPT run from design p0 (n_p,) and configurations q0 (N, n); SI throughout."""
+        robot, chain, targets = self.task.robot, self.task.robot.chain, self.task.targets
+        N, n, npar = self.N, self.n, self.npar
+        b = self.bounds
+        x0 = np.concatenate([np.clip(p0, b[:, 0], b[:, 1]), np.clip(q0, chain.lower, chain.upper).ravel(),
+                             np.zeros(len(self.lbx) - npar - n * N)])
+        if self.cover:   # initial slack: the initial residuals, so the start is feasible
+            pos = robot.fk(np.clip(q0, chain.lower, chain.upper), params=np.clip(p0, b[:, 0], b[:, 1]))[:, :3, 3]
+            x0[npar + n * N:] = np.abs(pos - targets.positions).ravel()
+        t0 = time.perf_counter()
+        sol = self.solver(x0=x0, lbx=self.lbx, ubx=self.ubx, lbg=self.lbg, ubg=self.ubg)
+        dt = time.perf_counter() - t0
+        st = self.solver.stats()
+        it = st.get("iterations", {})
+        xs = np.array(sol["x"]).ravel()
+        return NlpStart(p0=np.asarray(p0, float), p=xs[:npar], objective=float(sol["f"]),
+                        success=bool(st["success"]), status=str(st["return_status"]),
+                        iterations=int(st.get("iter_count", len(it.get("obj", [])))), time_s=dt,
+                        history=[float(v) for v in it.get("obj", [])],
+                        constraint_violation=[float(v) for v in it.get("inf_pr", [])],
+                        q=xs[npar:npar + n * N].reshape(N, n))
+
+
 def solve_nlp(task: Task, p0: np.ndarray, q0: np.ndarray, margin: float = 2e-3, max_iter: int = 1000,
               max_time: float = 120.0) -> NlpStart:
-    """One IPOPT run from design p0 (n_p,) and configurations q0 (N, n); SI throughout."""
-    robot, chain, targets = task.robot, task.robot.chain, task.targets
-    if task.objective not in IPOPT_OBJECTIVES:
-        raise TaskError(f"objective {task.objective!r} is not smooth; IPOPT handles {', '.join(IPOPT_OBJECTIVES)} "
-                        f"(use the differential evolution method)")
-    if not chain.parameters:
-        raise TaskError(f"{robot.name} has no design parameters to optimise")
-    N, n, npar = len(targets), robot.n, len(chain.parameters)
-    cover = task.objective == "coverage"
-    p = ca.SX.sym("p", npar)
-    Q = ca.SX.sym("Q", n, N)
-    S = ca.SX.sym("S", 3, N) if cover else ca.SX(3, 0)
-    fkj = robot.symbolic.fkj_function
-    g, lbg, ubg = [], [], []
-
-    def add(expr, lo, hi):
-        g.append(expr)
-        lbg.extend([lo] * expr.numel())
-        ubg.extend([hi] * expr.numel())
-
-    for k in range(N):
-        T, J = fkj(Q[:, k], p)
-        r = T[:3, 3] - ca.DM(targets.positions[k])
-        if cover:
-            add(r - S[:, k], -ca.inf, 0.0)
-            add(r + S[:, k], 0.0, ca.inf)
-        else:
-            add(r, 0.0, 0.0)
-        eq, ineq = _orientation_terms(task, k, T[:3, :3])
-        for e in eq:
-            add(e, 0.0, 0.0)
-        for e in ineq:
-            add(e, 0.0, ca.inf)
-        for e in _dexterity_terms(task, J, margin):
-            add(e, 0.0, ca.inf)
-    if task.total_length is not None:
-        add(_dh_length(chain, p) - task.total_length, 0.0, 0.0)
-    f = ca.sum1(ca.sum2(S)) / (N * max(task.total_length or 1.0, 1e-3)) if cover else _dh_length(chain, p)
-    x = ca.vertcat(p, ca.vec(Q), ca.vec(S))
-    bounds = np.array([par.bounds for par in chain.parameters.values()])
-    lbx = np.concatenate([bounds[:, 0], np.tile(chain.lower, N), np.zeros(S.numel())])
-    ubx = np.concatenate([bounds[:, 1], np.tile(chain.upper, N), np.full(S.numel(), np.inf)])
-    opts = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.max_iter": max_iter,
-            "ipopt.max_cpu_time": max_time, "ipopt.tol": 1e-9, "ipopt.acceptable_tol": 1e-6}
-    solver = ca.nlpsol("design", "ipopt", {"x": x, "f": f, "g": ca.vertcat(*g) if g else ca.SX(0, 1)}, opts)
-    # initial slack: the initial residuals, so the start is feasible in the slack formulation
-    x0 = np.concatenate([np.clip(p0, bounds[:, 0], bounds[:, 1]), np.clip(q0, chain.lower, chain.upper).ravel(),
-                         np.zeros(S.numel())])
-    if cover:
-        pos = robot.fk(np.clip(q0, chain.lower, chain.upper), params=p0)[:, :3, 3]
-        x0[npar + n * N:] = np.abs(pos - targets.positions).ravel()
-    t0 = time.perf_counter()
-    sol = solver(x0=x0, lbx=lbx, ubx=ubx, lbg=lbg, ubg=ubg)
-    dt = time.perf_counter() - t0
-    st = solver.stats()
-    it = st.get("iterations", {})
-    xs = np.array(sol["x"]).ravel()
-    return NlpStart(p0=np.asarray(p0, float), p=xs[:npar], objective=float(sol["f"]), success=bool(st["success"]),
-                    status=str(st["return_status"]), iterations=int(st.get("iter_count", len(it.get("obj", [])))),
-                    time_s=dt, history=[float(v) for v in it.get("obj", [])],
-                    constraint_violation=[float(v) for v in it.get("inf_pr", [])],
-                    q=xs[npar:npar + n * N].reshape(N, n))
+    """One IPOPT run from design p0 (n_p,) and configurations q0 (N, n) (builds the NLP each call;
+    use :class:`DesignNlp` for many starts)."""
+    return DesignNlp(task, margin, max_iter, max_time).solve(p0, q0)

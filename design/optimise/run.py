@@ -40,7 +40,7 @@ def _poses(targets) -> np.ndarray:
     return T
 
 
-def _polish(task: Task, run, Qs, rng, t0: float, max_time: float, rounds: int, solve_nlp, options):
+def _polish(task: Task, run, Qs, rng, t0: float, max_time: float, rounds: int, nlp):
     """Re-solve from the run's design with each target's configuration replaced by the nearest
     sampled one at that design when that is closer to the target; keep improvements."""
     robot = task.robot
@@ -63,7 +63,7 @@ def _polish(task: Task, run, Qs, rng, t0: float, max_time: float, rounds: int, s
         d_new = np.linalg.norm(robot.fk(cand, params=p)[:, :3, 3] - task.targets.positions, axis=1)
         q0 = np.where((d_new < np.maximum(d_cur, t.tolerance) - 1e-12)[:, None], cand, cur)
         q0 = q0 + rng.normal(0.0, 0.01, q0.shape) * (robot.chain.upper - robot.chain.lower) / (2 * np.pi)
-        nxt = solve_nlp(task, p, q0, max_time=left, **options)
+        nxt = nlp.solve(p, q0)
         better = nxt.success and nxt.objective < run.objective - 1e-12 * max(1.0, abs(run.objective))
         merged = replace(nxt if better else run, p0=run.p0, iterations=run.iterations + nxt.iterations,
                          time_s=run.time_s + nxt.time_s, history=run.history + nxt.history,
@@ -94,12 +94,13 @@ def optimise(task: Task, method: str = "ipopt", starts: int = 4, seed: int = 0,
     if method == "de":
         from design.optimise.de import optimise_de
         return optimise_de(task, seed=seed, settings=settings, max_time=max_time, progress=progress, **options)
-    from design.optimise.nlp import solve_nlp
+    from design.optimise.nlp import DesignNlp
     t0 = time.perf_counter()
     robot, b = task.robot, _bounds(task)
     P0 = start_points(task, starts, seed)
     rng = np.random.default_rng(seed + 1)
     Qs = robot.random_configurations(max(settings.samples, 1000), seed=seed)
+    nlp = DesignNlp(task, max_time=max_time, **options)
     runs = []
     for i, p0 in enumerate(P0):
         left = max_time - (time.perf_counter() - t0)
@@ -108,8 +109,8 @@ def optimise(task: Task, method: str = "ipopt", starts: int = 4, seed: int = 0,
         q0 = seed_configurations(robot, task.targets, p0, 1, Qs)[:, 0]
         # a small seeded jitter keeps the starts off stationary points (a stretched or folded arm is one)
         q0 = q0 + rng.normal(0.0, 0.05, q0.shape) * (robot.chain.upper - robot.chain.lower) / (2 * np.pi)
-        run = solve_nlp(task, p0, q0, max_time=left, **options)
-        run = _polish(task, run, Qs, rng, t0, max_time, polish, solve_nlp, options)
+        run = nlp.solve(p0, q0)
+        run = _polish(task, run, Qs, rng, t0, max_time, polish, nlp)
         runs.append(run)
         if progress:
             progress(f"start {i + 1}/{starts}: {run.status}, objective {run.objective:.6g}, "

@@ -32,7 +32,7 @@ def test_scara_ipopt_matches_the_grid():
     base = kin.load_robot("studies/tasks/robots/scara_design.toml")
     pars = {k: replace(p, bounds=(0.15, 0.30)) for k, p in base.chain.parameters.items()}
     robot = kin.Robot(replace(base.chain, parameters=pars))
-    targets = Targets(box_points([0.15, -0.15, -0.15], [0.35, 0.15, -0.15], (3, 3, 1)), tolerance=1e-6)
+    targets = Targets(box_points([0.15, -0.15, -0.15], [0.35, 0.15, -0.15], (3, 2, 1)), tolerance=1e-6)
     task = Task("scara", robot, targets, Dexterity("sigma_min", 0.08), objective="length")
     settings = VerifySettings(seeds=2, samples=500)
     res = optimise(task, starts=2, seed=0, settings=settings)
