@@ -11,11 +11,13 @@ from typing import Any
 import numpy as np
 
 import kin
+from kin import robotfile
 from kin.chain import ANGLE_UNITS, LENGTH_UNITS
+from kin.robotfile import _tname
 from kin.transforms import rpy_to_matrix
 
 from design.task.model import OBJECTIVES, Dexterity, Targets, Task, TaskError
-from design.task.targets import axis_frames, box_points, read_points_csv, ring_points, shell_points
+from design.task.targets import box_points, read_points_csv, ring_points, shell_points
 
 __all__ = ["load_task", "loads_task", "SHAPES"]
 
@@ -28,51 +30,22 @@ _TARGET = {"points": ("file",), "box": ("min", "max", "count"),
 _ORIENT = ("orientation", "axis", "half_angle", "rpy", "tolerance", "shape")
 
 
-def _tname(v: Any) -> str:
-    return {bool: "boolean", int: "integer", float: "number", str: "string", list: "array",
-            dict: "table"}.get(type(v), type(v).__name__)
+class _Reader(robotfile._Reader):
+    """The robot-file field reader (table, number, string, vector), failing with :class:`TaskError`."""
 
-
-class _Reader:
-    def __init__(self, path: str | None):
-        self.path = path
-
-    def fail(self, field: str, msg: str) -> TaskError:
+    def fail(self, field: str | None, msg: str) -> TaskError:
         return TaskError(msg, self.path, field)
 
-    def table(self, obj: Any, field: str, allowed: tuple[str, ...]) -> dict:
-        if not isinstance(obj, dict):
-            raise self.fail(field, f"must be a table, got {_tname(obj)}")
-        for k in obj:
-            if k not in allowed:
-                raise self.fail(f"{field}.{k}" if field else k, f"unknown field; allowed: {', '.join(allowed)}")
-        return obj
-
     def number(self, v: Any, field: str, lo: float = -math.inf, hi: float = math.inf, strict_lo=False) -> float:
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
-            raise self.fail(field, f"must be a number, got {_tname(v)} {v!r}")
-        x = float(v)
-        if not math.isfinite(x) or x < lo or x > hi or (strict_lo and x == lo):
-            rng = f"{'(' if strict_lo else '['}{lo:g}, {hi:g}]"
-            raise self.fail(field, f"must be a finite number in {rng}, got {v}")
+        x = super().number(v, field)
+        if x < lo or x > hi or (strict_lo and x == lo):
+            raise self.fail(field, f"must be a finite number in {'(' if strict_lo else '['}{lo:g}, {hi:g}], got {v}")
         return x
 
     def integer(self, v: Any, field: str, lo: int = 1, hi: int = 100_000) -> int:
         if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
             raise self.fail(field, f"must be an integer in [{lo}, {hi}], got {v!r}")
         return v
-
-    def string(self, v: Any, field: str, allowed: tuple[str, ...] | None = None) -> str:
-        if not isinstance(v, str):
-            raise self.fail(field, f"must be a string, got {_tname(v)} {v!r}")
-        if allowed is not None and v not in allowed:
-            raise self.fail(field, f"{v!r} is not allowed; allowed: {', '.join(allowed)}")
-        return v
-
-    def vector(self, v: Any, field: str, size: int) -> list[float]:
-        if not isinstance(v, list) or len(v) != size:
-            raise self.fail(field, f"must be a list of {size} numbers, got {v!r}")
-        return [self.number(x, f"{field}[{i}]") for i, x in enumerate(v)]
 
     def counts(self, v: Any, field: str, size: int, limit: int = 200_000) -> list[int]:
         if not isinstance(v, list) or len(v) != size:
