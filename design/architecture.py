@@ -15,7 +15,6 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Callable
 
-import numpy as np
 
 import kin
 from design.optimise import DesignResult, VerifySettings, optimise

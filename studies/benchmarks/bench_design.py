@@ -17,11 +17,9 @@ Figures (all wall times on this machine; provisional when it is loaded):
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
 
-import numpy as np
 
 from design.architecture import optimise_architectures
 from design.coverage import coverage
