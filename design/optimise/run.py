@@ -8,7 +8,7 @@ from typing import Callable
 
 import numpy as np
 
-from design.coverage import seed_configurations
+from design.coverage import coverage_of_designs, seed_configurations
 from design.optimise.objective import VerifySettings, evaluate_designs
 from design.optimise.result import DesignResult
 from design.task.model import Task, TaskError
@@ -101,14 +101,18 @@ def optimise(task: Task, method: str = "ipopt", starts: int = 4, seed: int = 0,
     rng = np.random.default_rng(seed + 1)
     Qs = robot.random_configurations(max(settings.samples, 1000), seed=seed)
     nlp = DesignNlp(task, max_time=max_time, **options)
+    covs0 = coverage_of_designs(robot, task.targets, task.dexterity, P0, settings.seeds, settings.samples,
+                                settings.seed)
     runs = []
     for i, p0 in enumerate(P0):
         left = max_time - (time.perf_counter() - t0)
         if left <= 0:
             break
-        q0 = seed_configurations(robot, task.targets, p0, 1, Qs)[:, 0]
-        # a small seeded jitter keeps the starts off stationary points (a stretched or folded arm is one)
-        q0 = q0 + rng.normal(0.0, 0.05, q0.shape) * (robot.chain.upper - robot.chain.lower) / (2 * np.pi)
+        # per target: the verified IK solution at the start design where there is one, else the nearest
+        # sample with a small seeded jitter (keeps it off stationary points: a stretched or folded arm)
+        nn = seed_configurations(robot, task.targets, p0, 1, Qs)[:, 0]
+        nn = nn + rng.normal(0.0, 0.05, nn.shape) * (robot.chain.upper - robot.chain.lower) / (2 * np.pi)
+        q0 = np.where(covs0[i].reached[:, None], covs0[i].q, nn)
         run = nlp.solve(p0, q0)
         run = _polish(task, run, Qs, rng, t0, max_time, polish, nlp)
         runs.append(run)
