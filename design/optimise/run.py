@@ -8,7 +8,7 @@ from typing import Callable
 
 import numpy as np
 
-from design.coverage import coverage_of_designs, seed_configurations
+from design.coverage import seed_configurations
 from design.optimise.objective import VerifySettings, evaluate_designs
 from design.optimise.result import DesignResult
 from design.task.model import Task, TaskError
@@ -25,13 +25,18 @@ def _bounds(task: Task) -> np.ndarray:
     return np.array([p.bounds for p in pars.values()], float)
 
 
-def start_points(task: Task, starts: int, seed: int) -> np.ndarray:
-    """Initial designs (starts, n_p): the nominal values first, then uniform within the bounds."""
+def start_points(task: Task, starts: int, seed: int, settings: VerifySettings, screen: int = 8):
+    """Initial designs (starts, n_p) and their verified coverage: the nominal design first, then the
+    best ``starts − 1`` (by verified score) of ``screen × (starts − 1)`` designs uniform within the
+    bounds — a random start where the arm reaches nothing leaves IPOPT without a feasible branch."""
     b = _bounds(task)
     rng = np.random.default_rng(seed)
-    P = rng.uniform(b[:, 0], b[:, 1], size=(starts, len(b)))
-    P[0] = np.clip(task.robot.chain.parameter_values, b[:, 0], b[:, 1])
-    return P
+    nominal = np.clip(task.robot.chain.parameter_values, b[:, 0], b[:, 1])[None]
+    cand = rng.uniform(b[:, 0], b[:, 1], size=(max(screen, 1) * (starts - 1), len(b)))
+    ev = evaluate_designs(task, np.vstack([nominal, cand]), settings)
+    order = 1 + np.argsort(ev.score[1:], kind="stable")[:starts - 1]
+    pick = np.concatenate([[0], order])
+    return np.vstack([nominal, cand])[pick], [ev.coverage[i] for i in pick]
 
 
 def _poses(targets) -> np.ndarray:
@@ -76,10 +81,12 @@ def _polish(task: Task, run, Qs, rng, t0: float, max_time: float, rounds: int, n
 
 def optimise(task: Task, method: str = "ipopt", starts: int = 4, seed: int = 0,
              settings: VerifySettings | None = None, max_time: float = 300.0,
-             progress: Callable[[str], None] | None = None, polish: int = 2, **options) -> DesignResult:
+             progress: Callable[[str], None] | None = None, polish: int = 2, screen: int = 8,
+             **options) -> DesignResult:
     """Optimise the task's design parameters (SI) and verify the answer independently.
 
-    ``starts``: IPOPT starts (the nominal design, then random ones from ``seed``); ``settings``: the
+    ``starts``: IPOPT starts (the nominal design, then the best verified of ``screen`` random designs
+    per further start, from ``seed``); ``settings``: the
     verification budget; ``polish``: re-solves per start with the per-target configurations
     re-seeded at the new design (a target whose configuration sits on another IK branch, or on a
     stationary point such as a folded arm, is re-seeded from the nearest-neighbour index); ``max_time``: wall-time budget (s) for the solver; ``progress`` receives
@@ -97,12 +104,10 @@ def optimise(task: Task, method: str = "ipopt", starts: int = 4, seed: int = 0,
     from design.optimise.nlp import DesignNlp
     t0 = time.perf_counter()
     robot, b = task.robot, _bounds(task)
-    P0 = start_points(task, starts, seed)
+    P0, covs0 = start_points(task, starts, seed, settings, screen)
     rng = np.random.default_rng(seed + 1)
     Qs = robot.random_configurations(max(settings.samples, 1000), seed=seed)
     nlp = DesignNlp(task, max_time=max_time, **options)
-    covs0 = coverage_of_designs(robot, task.targets, task.dexterity, P0, settings.seeds, settings.samples,
-                                settings.seed)
     runs = []
     for i, p0 in enumerate(P0):
         left = max_time - (time.perf_counter() - t0)
