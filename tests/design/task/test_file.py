@@ -1,9 +1,13 @@
 """Task files: the bundled examples load; every bad field gives one TaskError line naming file and field;
 the CLI prints that line and exits 2."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 
+import kin
 from design.task import TaskError, load_task, loads_task
+from planning.toolpath import load_toolpath
 from studies.cli.main import main
 
 GOOD = '''
@@ -70,3 +74,22 @@ def test_cli_bad_task_one_line_exit_2(tmp_path, capsys):
     assert main(["coverage", "scara_rrp", str(bad)]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "dexterity.sigma_min" in err and str(bad) in err
+
+
+def test_toolpath_and_points_targets(tmp_path):
+    text = GOOD.replace('robot = "studies/tasks/robots/scara_design.toml"', 'robot = "scara_rrp"')
+    tp = text.replace('shape = "box"\nmin = [150, -150, -150]\nmax = [350, 150, -150]\ncount = [3, 2, 1]',
+                      f'shape = "toolpath"\nfile = "{Path("studies/toolpaths/scara_line.csv").resolve()}"')
+    task = loads_task(tp, "t.toml")
+    ref = load_toolpath("studies/toolpaths/scara_line.csv", kin.load_robot("scara_rrp"))
+    assert np.allclose(task.targets.positions, ref.poses[:, :3, 3])
+    (tmp_path / "p.csv").write_text("x,y,z,ax,ay,az\n100,0,-150,0,0,-1\n200,50,-150,0,0,-2\n")
+    pts = text.replace('shape = "box"\nmin = [150, -150, -150]\nmax = [350, 150, -150]\ncount = [3, 2, 1]',
+                       'shape = "points"\nfile = "p.csv"\norientation = "cone"\nhalf_angle = 10')
+    task = loads_task(pts, str(tmp_path / "t.toml"), tmp_path)
+    assert np.allclose(task.targets.positions, [[0.1, 0, -0.15], [0.2, 0.05, -0.15]])
+    assert np.allclose(task.targets.axes, [[0, 0, -1], [0, 0, -1]])          # normalised
+    assert task.targets.cone_half_angle == pytest.approx(np.radians(10))
+    (tmp_path / "bad.csv").write_text("1,2\n")
+    with pytest.raises(TaskError, match="bad.csv: line 1"):
+        loads_task(pts.replace("p.csv", "bad.csv"), "t.toml", tmp_path)
