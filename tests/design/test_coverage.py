@@ -71,3 +71,19 @@ def test_bad_design_rows_raise():
     robot = kin.load_robot(ROBOT)
     with pytest.raises(TaskError, match="L1 outside its bounds"):
         coverage_of_designs(robot, Targets(np.zeros((1, 3))), None, np.array([[5.0, 0.5]]))
+
+
+def test_axis_and_cone_solutions_hold_the_tool_axis():
+    # FANUC M-16iB/20: the solutions' tool z (from FK, independent of the IK's own residual) is the
+    # required axis, or within the cone's half-angle of it
+    robot = kin.load_robot("fanuc_m16ib20")
+    pts = box_points([1.0, -0.3, 0.3], [1.3, 0.3, 0.6], (2, 2, 2))
+    down = np.tile([0.0, 0.0, -1.0], (len(pts), 1))
+    tilted = np.tile([np.sin(0.5), 0.0, -np.cos(0.5)], (len(pts), 1))
+    for t in (Targets(pts, "axis", down), Targets(pts, "cone", tilted, cone_half_angle=0.3)):
+        cov = coverage(robot, t, seeds=2, samples=3000)
+        assert cov.fraction == 1.0
+        z = robot.fk(cov.q)[:, :3, 2]
+        ang = np.arccos(np.clip(np.einsum("ij,ij->i", z, t.axes), -1, 1))
+        assert np.all(ang <= (1e-6 if t.orientation == "axis" else t.cone_half_angle + 1e-6))
+        assert np.allclose(robot.fk(cov.q)[:, :3, 3], pts, atol=1e-6)
