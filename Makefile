@@ -26,6 +26,7 @@ bench: $(STAMP)
 	$(BIN)/python -m studies.benchmarks.bench_kin
 	$(BIN)/python -m studies.benchmarks.bench_plan
 	$(BIN)/python -m studies.benchmarks.bench_timing
+	$(BIN)/python -m studies.benchmarks.bench_design
 
 clean:
 	rm -rf $(VENV) out build *.egg-info

