@@ -6,8 +6,9 @@ import sys
 from pathlib import Path
 
 import kin
+from kin.output import write_output
 
-from studies.cli.common import EXIT_FAIL, EXIT_OK, CliInputError, dump, jsonable
+from studies.cli.common import EXIT_FAIL, EXIT_OK, MAX_SIGMA, CliInputError, bounded, dump, jsonable, seed
 
 #: bundled example task files: ``rmt optimise NAME`` finds ``NAME.toml`` here
 TASK_DIR = Path(__file__).parent.parent / "tasks"
@@ -105,23 +106,23 @@ def add_commands(add) -> None:
     sp.add_argument("robot", help="bundled robot name or robot file")
     sp.add_argument("target", help="task file (its target and dexterity), bundled task name, or points CSV "
                                    "(x, y, z[, ax, ay, az] in the robot's length unit)")
-    sp.add_argument("--sigma-min", type=float, help="σ_min ≥ S of the translational rows (SI, m/rad)")
-    sp.add_argument("--characteristic-length", type=float,
+    sp.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True),
+                    help="σ_min ≥ S of the translational rows (SI, m/rad)")
+    sp.add_argument("--characteristic-length", type=bounded(0, 1e6, "(robot length unit)", open_low=True),
                     help="with --sigma-min: of the full Jacobian scaled by this length (robot length unit)")
-    sp.add_argument("--manipulability", type=float, help="manipulability ≥ M of the task rows")
+    sp.add_argument("--manipulability", type=bounded(0, 1e6, "", open_low=True),
+                    help="manipulability ≥ M of the task rows")
     sp.add_argument("--param", nargs="+", metavar="NAME=VALUE", help="design parameters (robot file units)")
     sp.add_argument("--seeds", type=int, default=4, help="IK seeds per target (default 4)")
     sp.add_argument("--samples", type=int, default=20_000, help="sampled configurations for the seed index")
-    sp.add_argument("--seed", type=int, default=0)
+    sp.add_argument("--seed", type=seed, default=0, help="seed of the sampling and IK starts (default 0)")
     sp.add_argument("--plot", help="write the targets coloured by their best σ_min score (PNG)")
     add_optimise(add)
 
 
 def _write_outputs(res, out_dir: Path) -> list[Path]:
     """design.json (strict JSON), the optimised robot file, coverage / history plots."""
-    out_dir.mkdir(parents=True, exist_ok=True)
-    written = [out_dir / "design.json"]
-    written[0].write_text(dump(res.to_dict()) + "\n")
+    written = [write_output(out_dir / "design.json", dump(res.to_dict()) + "\n")]
     written.append(kin.save_robot(res.chain, out_dir / f"{res.robot.name}_optimised.toml"))
     return written
 
@@ -145,8 +146,7 @@ def cmd_optimise(args, load_robot) -> int:
                                          settings=settings, max_time=args.max_time, progress=progress)
         out = ranking.to_dict()
         out_dir = Path(args.out) / task.name
-        out_dir.mkdir(parents=True, exist_ok=True)
-        (out_dir / "design.json").write_text(dump(out) + "\n")
+        write_output(out_dir / "design.json", dump(out) + "\n")
         from studies.plots.design import plot_ranking
         plot_ranking(ranking.names, ranking.objectives, ranking.coverages, out_dir / "ranking.png",
                      task.objective)
@@ -196,10 +196,10 @@ def add_optimise(add) -> None:
     sp.add_argument("task", help="task file or bundled task name")
     sp.add_argument("--method", choices=("ipopt", "de"), default="ipopt")
     sp.add_argument("--starts", type=int, default=4, help="IPOPT starts (default 4)")
-    sp.add_argument("--seed", type=int, default=0)
+    sp.add_argument("--seed", type=seed, default=0, help="seed of the starts, sampling and IK (default 0)")
     sp.add_argument("--seeds", type=int, default=4, help="IK seeds per target in the verification")
     sp.add_argument("--samples", type=int, default=20_000, help="sampled configurations for the seed index")
-    sp.add_argument("--max-time", type=float, default=600.0, help="solver time budget, s (default 600)")
+    sp.add_argument("--max-time", type=bounded(0, 86_400, "s", open_low=True), default=600.0, help="solver time budget, s (default 600)")
     sp.add_argument("--out", default="out", help="output folder (default out/); writes OUT/NAME/")
     sp.add_argument("--volume", action="store_true",
                     help="also the converged workspace volume and the structural length index Q_L")
