@@ -12,6 +12,7 @@ success = False and the residual of the best attempt.
 """
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -21,6 +22,8 @@ from kin.errors import ConfigurationError
 from kin.transforms import rotation_error
 
 MODES = ("auto", "pose", "position")
+#: largest defect of a target pose from a rigid transform (orthonormality, det, bottom row)
+RIGID_TOL = 1e-6
 
 
 class IKResult(NamedTuple):
@@ -48,13 +51,63 @@ def _targets(T, n_targets_hint: str) -> tuple[np.ndarray, np.ndarray | None, boo
                                  f"or a position (3,) or (N, 3) {n_targets_hint}")
     if not np.all(np.isfinite(arr)):
         raise ConfigurationError("IK target holds NaN or infinite values")
+    if R is not None and len(R):
+        A = arr.reshape(-1, 4, 4)
+        orth = np.abs(np.einsum("kji,kjl->kil", R, R) - np.eye(3)).max(axis=(1, 2))
+        det = np.abs(np.linalg.det(R) - 1.0)
+        bottom = np.abs(A[:, 3] - np.array([0.0, 0.0, 0.0, 1.0])).max(axis=1)
+        bad = np.nonzero(np.maximum(np.maximum(orth, det), bottom) > RIGID_TOL)[0]
+        if len(bad):
+            where = "" if single else f" (target {bad[0]})"
+            raise ConfigurationError(f"IK target{where} is not a rigid transform: its rotation must be orthonormal "
+                                     f"with det +1 (to {RIGID_TOL:g}) and its bottom row [0, 0, 0, 1]")
     return P, R, single
+
+
+class Problem(NamedTuple):
+    """A validated IK request (see :func:`prepare`)."""
+
+    Pt: np.ndarray                 # (N, 3) target positions, m
+    Rt: np.ndarray | None          # (N, 3, 3) target rotations; None in position mode
+    single: bool                   # one target given (scalar results)
+    Q0: np.ndarray | None          # (N, n) warm starts inside the limits, or None
+    P: np.ndarray                  # design parameters (n_p,) or (N, n_p)
+
+
+def prepare(robot, T, q0, mode: str, params, tol_position: float, tol_orientation: float) -> Problem:
+    """Validate an IK request: target shapes and values, mode, q0, parameters, tolerances."""
+    if mode not in MODES:
+        raise ValueError(f"mode {mode!r} unknown; allowed: {', '.join(MODES)}")
+    for name, tol in (("tol_position", tol_position), ("tol_orientation", tol_orientation)):
+        if not (math.isfinite(tol) and tol > 0):
+            raise ConfigurationError(f"IK {name} = {tol} must be a positive finite number")
+    chain = robot.chain
+    n = chain.n
+    Pt, Rt, single = _targets(T, f"for {chain.name}")
+    if mode == "auto":
+        mode = "pose" if (Rt is not None and len(robot.task_rows) == 6) else "position"
+    if mode == "pose" and Rt is None:
+        raise ConfigurationError("IK mode 'pose' needs a 4×4 target, got a position")
+    if mode == "position":
+        Rt = None
+    N = len(Pt)
+    Q0 = None
+    if q0 is not None:
+        Q0, _ = chain.as_batch(q0, "q0")
+        if len(Q0) not in (1, N):
+            raise ConfigurationError(f"q0 has {len(Q0)} rows for {N} targets")
+        Q0 = np.clip(np.broadcast_to(Q0, (N, n)), chain.lower, chain.upper)
+    P = chain.parameter_values if params is None else robot._params(params, N)
+    if P.ndim == 2 and P.shape[0] != N:
+        raise ConfigurationError(f"parameter batch has {P.shape[0]} rows for {N} targets")
+    return Problem(Pt, Rt, single, Q0, P)
 
 
 def solve_ik(robot, T, seed: int = 0, q0=None, mode: str = "auto", restarts: int = 8, rounds: int = 12,
              max_iter: int = 150, tol_position: float = 1e-6, tol_orientation: float = 1e-6,
              params=None) -> IKResult:
-    """Inverse kinematics of ``robot`` for one target or a batch.
+    """Inverse kinematics of ``robot`` for one target or a batch, in numpy (the fallback of
+    :func:`kin.ik.solve_ik` when no C compiler works).
 
     Parameters
     ----------
@@ -71,29 +124,12 @@ def solve_ik(robot, T, seed: int = 0, q0=None, mode: str = "auto", restarts: int
     nearest the home configuration: zero clipped to the limits) is returned, otherwise the one
     with the smallest residual.
     """
-    if mode not in MODES:
-        raise ValueError(f"mode {mode!r} unknown; allowed: {', '.join(MODES)}")
     chain = robot.chain
     n = chain.n
-    Pt, Rt, single = _targets(T, f"for {chain.name}")
-    if mode == "auto":
-        mode = "pose" if (Rt is not None and len(robot.task_rows) == 6) else "position"
-    if mode == "pose" and Rt is None:
-        raise ConfigurationError("IK mode 'pose' needs a 4×4 target, got a position")
-    if mode == "position":
-        Rt = None
+    Pt, Rt, single, Q0, P = prepare(robot, T, q0, mode, params, tol_position, tol_orientation)
     N = len(Pt)
     rng = np.random.default_rng(seed)
     lo, hi = chain.lower, chain.upper
-    Q0 = None
-    if q0 is not None:
-        Q0, _ = chain.as_batch(q0, "q0")
-        if len(Q0) not in (1, N):
-            raise ConfigurationError(f"q0 has {len(Q0)} rows for {N} targets")
-        Q0 = np.clip(np.broadcast_to(Q0, (N, n)), lo, hi)
-    P = chain.parameter_values if params is None else robot._params(params, N)
-    if P.ndim == 2 and P.shape[0] != N:
-        raise ConfigurationError(f"parameter batch has {P.shape[0]} rows for {N} targets")
     scale = _length_scale(chain)
     solver = _LM(robot, P, scale, tol_position, tol_orientation, max_iter)
 
