@@ -2,6 +2,6 @@
 (:mod:`kin.ik.compiled`, C generated from the CasADi model) or, without a C compiler, the numpy one
 (:mod:`kin.ik.numeric`); :mod:`kin.ik.analytic` gives every branch of a spherical-wrist 6R arm."""
 from kin.ik.numeric import IKResult
-from kin.ik.solve import METHODS, solve_ik
+from kin.ik.solve import METHODS, local_ik, solve_ik
 
-__all__ = ["IKResult", "METHODS", "solve_ik"]
+__all__ = ["IKResult", "METHODS", "local_ik", "solve_ik"]

@@ -231,3 +231,19 @@ def _length_scale(chain) -> float:
     tab = chain.dh_table()
     reach = np.abs(tab[:, 0]).sum() + np.abs(tab[:, 2]).sum() + np.linalg.norm(chain.tool.matrix[:3, 3])
     return float(max(0.5 * reach, 0.05))
+
+
+def local_ik(robot, T, q, mode: str = "auto", max_iter: int = 150, tol_position: float = 1e-6,
+             tol_orientation: float = 1e-6, params=None) -> IKResult:
+    """One Levenberg–Marquardt run per target from the warm start ``q`` (n,) or (N, n), no restarts
+    (numpy; see :func:`kin.ik.local_ik`)."""
+    Pt, Rt, single, Q0, P = prepare(robot, T, q, mode, params, tol_position, tol_orientation)
+    if Q0 is None:
+        raise ConfigurationError("local IK needs a warm start q")
+    N = len(Pt)
+    lm = _LM(robot, P, _length_scale(robot.chain), tol_position, tol_orientation, max_iter)
+    Q, pe, oe = lm.run(Q0, Pt, Rt, np.arange(N))
+    ok = (pe <= tol_position) & (oe <= tol_orientation)
+    if single:
+        return IKResult(bool(ok[0]), Q[0], float(pe[0]), float(oe[0]))
+    return IKResult(ok, Q, pe, oe)

@@ -65,7 +65,35 @@ def solve_ik(robot, T, seed: int = 0, q0=None, mode: str = "auto", restarts: int
     out = solver.solve(Pt, Rt, Q0, None if params is None else P, seed=seed,
                        max_starts=1 + max(int(restarts), 1) * max(int(rounds), 1), max_iter=int(max_iter),
                        tol_position=tol_position, tol_orientation=tol_orientation, threads=threads)
+    return _result(out, single)
+
+
+def _result(out: dict, single: bool) -> IKResult:
     if single:
         return IKResult(bool(out["success"][0]), out["q"][0], float(out["position_error"][0]),
                         float(out["orientation_error"][0]))
     return IKResult(out["success"], out["q"], out["position_error"], out["orientation_error"])
+
+
+def local_ik(robot, T, q, mode: str = "auto", max_iter: int = 150, tol_position: float = 1e-6,
+             tol_orientation: float = 1e-6, params=None, method: str = "auto", threads: int | None = None) -> IKResult:
+    """Warm-started IK: one Levenberg–Marquardt run per target from ``q`` (n,) or (N, n) — projected
+    onto the joint limits — and no restarts, no reach test.  For continuation along a path, where the
+    previous solution seeds the next target and a jump to another branch is unwanted.
+
+    Arguments and result as :func:`solve_ik`; success False when this one run does not converge.
+    """
+    if method not in METHODS:
+        raise ValueError(f"method {method!r} unknown; allowed: {', '.join(METHODS)}")
+    if q is None:
+        raise ConfigurationError("local IK needs a warm start q")
+    solver = None if method == "numeric" else compiled_ik(robot)
+    if solver is None:
+        if method == "compiled":
+            raise CompileError(f"no compiled IK for {robot.name}: no working C compiler (set CC or RMTKIT_CC)")
+        return numeric.local_ik(robot, T, q, mode=mode, max_iter=max_iter, tol_position=tol_position,
+                                tol_orientation=tol_orientation, params=params)
+    Pt, Rt, single, Q0, P = prepare(robot, T, q, mode, params, tol_position, tol_orientation)
+    out = solver.solve(Pt, Rt, Q0, None if params is None else P, max_starts=1, max_iter=int(max_iter),
+                       tol_position=tol_position, tol_orientation=tol_orientation, reach=False, threads=threads)
+    return _result(out, single)
