@@ -41,22 +41,28 @@ _ptr = ctypes.c_void_p
 class ReachBound:
     """Upper bounds of how far the chain reaches, for the early "out of reach" verdict.
 
-    Each DH row moves the next frame by at most √(a² + d²) (d over its range for a prismatic
-    joint), the tool by the length of its offset.  A pose target fixes more than the tool point:
-    for a standard-DH chain whose last joint is revolute, frame n − 1's origin
-    o_{n−1} = o_n − a_n·x_n − d_n·z_{n−1} follows from the target (z_{n−1} = R_n·(0, sin α_n, cos α_n)),
-    and it must lie within reach of rows 1…n−1 — for a spherical wrist, the wrist centre.  For a
-    revolute first joint (standard DH) frame 1's origin lies on a circle of radius |a₁| at height d₁
-    about joint 1's axis, which sharpens either bound.
+    From frame k's origin to frame m's (standard DH) the chain moves by Σ (d_i·z_{i−1} + a_i·x_i),
+    i = k+1…m, with z_{i−1} ⟂ x_i and x_i ⟂ z_i: so the distance is at most Σ √(a_i² + d_i²) and
+    also at most |d_{k+1}| + Σ √(a_i² + d_{i+1}²) + |a_m| (d over its range for a prismatic joint);
+    the smaller sum is the bound (the second is exact for an elbow offset followed by a forearm).
+    In modified DH the first sum is used.  The tool adds the length of its offset.
+
+    A pose target fixes more than the tool point: for a standard-DH chain whose last joint is
+    revolute, frame n − 1's origin o_{n−1} = o_n − a_n·x_n − d_n·z_{n−1} follows from the target
+    (z_{n−1} = R_n·(0, sin α_n, cos α_n)), and it must lie within reach of rows 1…n−1 — for a
+    spherical wrist, the wrist centre.  For a revolute first joint (standard DH) frame 1's origin lies
+    on a circle of radius |a₁| at height d₁ about joint 1's axis, and the rest of the chain reaches
+    from there: this sharpens either bound.
     """
 
     def __init__(self, chain, params: np.ndarray | None = None):
         tab = chain.dh_table(params)
-        d = tab[:, 2].copy()
+        self.a = np.abs(tab[:, 0])
+        d = np.abs(tab[:, 2])
         for i, j in enumerate(chain.joints):
             if not j.is_revolute:
-                d[i] = max(abs(d[i] + j.limits[0]), abs(d[i] + j.limits[1]))
-        self.rows = np.hypot(tab[:, 0], d)
+                d[i] = max(abs(tab[i, 2] + j.limits[0]), abs(tab[i, 2] + j.limits[1]))
+        self.d = d
         self.base, self.tool = chain.base.matrix, chain.tool.matrix
         self.standard = chain.convention == "standard"
         self.circle = self.standard and chain.joints[0].is_revolute
@@ -65,16 +71,29 @@ class ReachBound:
         self.wrist = self.standard and chain.joints[-1].is_revolute and chain.n > 1
         self.last = (last[0], np.array([0.0, math.sin(last[1]), math.cos(last[1])]), last[2])
 
+    def between(self, k: int, m: int) -> float:
+        """Bound (m) of the distance from frame k's origin to frame m's (0: the base frame)."""
+        if m <= k:
+            return 0.0
+        a, d = self.a[k:m], self.d[k:m]
+        rows = float(np.hypot(a, d).sum())
+        if not self.standard:
+            return rows
+        return min(rows, float(d[0] + np.hypot(a[:-1], d[1:]).sum() + a[-1]))
+
     def constants(self) -> np.ndarray:
-        """The bound as the 60 numbers the C test reads: base⁻¹ (16, row-major), the bounds of the tool
-        point and of frame n − 1's origin, |row 1|, |a₁|, d₁, circle and wrist flags, a_n,
-        (0, sin α_n, cos α_n), d_n, tool⁻¹ (16)."""
+        """The bound as the 62 numbers the C test reads: base⁻¹ (16, row-major), 16 unused, the bounds
+        from the base of the tool point and of frame n − 1's origin, 0, |a₁|, d₁, circle and wrist
+        flags, a_n, (0, sin α_n, cos α_n), d_n, the same two bounds from frame 1's origin, tool⁻¹ (16)."""
         a, zl, d = self.last
+        n = len(self.a)
+        tool = float(np.linalg.norm(self.tool[:3, 3]))
         return np.concatenate([np.linalg.inv(self.base).ravel(),
                                np.zeros(16),
-                               [self.rows.sum() + float(np.linalg.norm(self.tool[:3, 3])), self.rows[:-1].sum(),
-                                self.rows[0], self.a1, self.d1, float(self.circle), float(self.wrist), a, *zl, d],
-                               np.linalg.inv(self.tool).ravel()])
+                               [self.between(0, n) + tool, self.between(0, n - 1), 0.0, self.a1, self.d1,
+                                float(self.circle), float(self.wrist), a, *zl, d,
+                                self.between(1, n) + tool, self.between(1, n - 1)],
+               np.linalg.inv(self.tool).ravel()])
 
 
 def _compile(source: str, compiler: str, path: Path, label: str) -> None:
@@ -120,6 +139,8 @@ class CompiledIK:
         self.home = np.clip(0.0, self.lo, self.hi)
         self._lo_p, self._hi_p = self.lo.ctypes.data, self.hi.ctypes.data
         self._rb = ReachBound(self.chain).constants()
+        self._p0_p, self._home_p, self._rb_p = self._p0.ctypes.data, self.home.ctypes.data, self._rb.ctypes.data
+        self._one = None
         self.weight = _length_scale(self.chain)
         lib.rmtik_beyond_batch.argtypes = [_ptr, _ptr, _ptr, ctypes.c_longlong, _ptr]
         lib.rmtik_beyond_batch.restype = None
@@ -160,6 +181,9 @@ class CompiledIK:
         ``orientation_error`` (N,), ``starts`` and ``iterations`` (N,) int.
         """
         N, n = len(Pt), self.n
+        if N == 1 and P is None and Q0 is None and reach and tol_cost is None and threads is None:
+            return self._solve_one(Pt[0], None if Rt is None else Rt[0], seed, max_starts, max_iter,
+                                   tol_position, tol_orientation)
         Pt = np.ascontiguousarray(Pt, dtype=float)
         Rt = None if Rt is None else np.ascontiguousarray(Rt, dtype=float)
         rb = self._rb if reach else None
@@ -191,6 +215,29 @@ class CompiledIK:
                     q.ctypes.data, errs.ctypes.data, errs.ctypes.data + 8 * N, ad, ad + 4 * N, ad + 8 * N)
         return {"q": q, "success": ints[0].astype(bool), "position_error": errs[0], "orientation_error": errs[1],
                 "starts": ints[1], "iterations": ints[2]}
+
+
+    def _solve_one(self, pt, R, seed, max_starts, max_iter, tol_position, tol_orientation) -> dict[str, np.ndarray]:
+        """:meth:`solve` for one target from home, nominal parameters: through buffers whose
+        addresses are known (numpy's ``.ctypes`` and allocations cost more than the C call's set-up)."""
+        b = self._one
+        if b is None:
+            n = self.n
+            arrs = (np.empty(3), np.empty(9), np.empty(n), np.empty(2), np.empty(3, np.intc))
+            b = self._one = (arrs, tuple(a.ctypes.data for a in arrs), threading.Lock())
+        (bp, bR, bq, be, bi), (ap, aR, aq, ae, ai), lock = b
+        tol_cost = (min(tol_position, tol_orientation * self.weight) * 1e-4) ** 2
+        with lock:
+            bp[:] = pt
+            if R is not None:
+                bR[:] = R.ravel()
+            self._solve(ap, None if R is None else aR, self._p0_p, 0, self._home_p, 0, self._lo_p, self._hi_p,
+                        self._rb_p, 1, int(R is not None), self.weight, float(tol_position), float(tol_orientation),
+                        tol_cost, int(max_iter), max(int(max_starts), 1), int(seed) & 0xFFFFFFFFFFFFFFFF, 1,
+                        aq, ae, ae + 8, ai, ai + 4, ai + 8)
+            q, e, i = bq.copy(), be.copy(), bi.copy()
+        return {"q": q[None], "success": i[:1].astype(bool), "position_error": e[:1], "orientation_error": e[1:],
+                "starts": i[1:2], "iterations": i[2:]}
 
 
 _cache: "weakref.WeakKeyDictionary[object, CompiledIK | None]" = weakref.WeakKeyDictionary()

@@ -204,11 +204,11 @@ static uint64_t rmtik_mix(uint64_t z) {{
 
 /* 1 when the target is certainly out of reach (see kin.ik.compiled.ReachBound for the constants rb) */
 static int rmtik_beyond(const double* rb, const double* pt, const double* Rt) {{
-  const double *Bi = rb, *Ti = rb + 44;
-  double P[3], bound;
+  const double *Bi = rb, *Ti = rb + 46;
+  double P[3], bound, rest;
   if (!Rt || !(rb[38] > 0)) {{
     for (int i = 0; i < 3; ++i) P[i] = Bi[i*4] * pt[0] + Bi[i*4 + 1] * pt[1] + Bi[i*4 + 2] * pt[2] + Bi[i*4 + 3];
-    bound = rb[32];
+    bound = rb[32]; rest = rb[44];
   }} else {{
     double X[16] = {{ Rt[0], Rt[1], Rt[2], pt[0], Rt[3], Rt[4], Rt[5], pt[1], Rt[6], Rt[7], Rt[8], pt[2], 0, 0, 0, 1 }};
     double Y[16], M[16];
@@ -219,11 +219,11 @@ static int rmtik_beyond(const double* rb, const double* pt, const double* Rt) {{
     const double a = rb[39], d = rb[43], *zl = rb + 40;
     for (int i = 0; i < 3; ++i)
       P[i] = M[i*4 + 3] - a * M[i*4] - d * (M[i*4] * zl[0] + M[i*4 + 1] * zl[1] + M[i*4 + 2] * zl[2]);
-    bound = rb[33];
+    bound = rb[33]; rest = rb[45];
   }}
   if (sqrt(P[0]*P[0] + P[1]*P[1] + P[2]*P[2]) > bound * (1 + 1e-9) + 1e-12) return 1;
   if (rb[37] > 0) {{
-    double rest = bound - rb[34], rho = sqrt(P[0]*P[0] + P[1]*P[1]);
+    double rho = sqrt(P[0]*P[0] + P[1]*P[1]);
     double dr = rho - rb[35], dz = P[2] - rb[36];
     if (sqrt(dr*dr + dz*dz) > rest * (1 + 1e-9) + 1e-12) return 1;
   }}

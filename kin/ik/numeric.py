@@ -38,6 +38,8 @@ class IKResult(NamedTuple):
 def _targets(T, n_targets_hint: str) -> tuple[np.ndarray, np.ndarray | None, bool]:
     """Targets as positions (N, 3) and rotations (N, 3, 3) or None; plus whether one was given."""
     arr = np.asarray(T, dtype=float)
+    if arr.shape == (4, 4):  # the common single pose: checked with plain floats (numpy's per-call cost dominates)
+        return _one_pose(arr)
     if arr.shape == (3,) or (arr.ndim == 2 and arr.shape[1] == 3 and arr.shape != (3, 3)):
         single = arr.ndim == 1
         P = arr.reshape(-1, 3)
@@ -62,6 +64,20 @@ def _targets(T, n_targets_hint: str) -> tuple[np.ndarray, np.ndarray | None, boo
             raise ConfigurationError(f"IK target{where} is not a rigid transform: its rotation must be orthonormal "
                                      f"with det +1 (to {RIGID_TOL:g}) and its bottom row [0, 0, 0, 1]")
     return P, R, single
+
+
+def _one_pose(arr: np.ndarray) -> tuple[np.ndarray, np.ndarray, bool]:
+    (r00, r01, r02, px), (r10, r11, r12, py), (r20, r21, r22, pz), bottom = arr.tolist()
+    if not all(map(math.isfinite, (r00, r01, r02, px, r10, r11, r12, py, r20, r21, r22, pz, *bottom))):
+        raise ConfigurationError("IK target holds NaN or infinite values")
+    cols = ((r00, r10, r20), (r01, r11, r21), (r02, r12, r22))
+    defect = max(abs(sum(a * b for a, b in zip(cols[i], cols[j])) - (i == j)) for i in range(3) for j in range(i, 3))
+    det = (r00 * (r11 * r22 - r12 * r21) - r01 * (r10 * r22 - r12 * r20) + r02 * (r10 * r21 - r11 * r20))
+    defect = max(defect, abs(det - 1.0), *(abs(b - e) for b, e in zip(bottom, (0.0, 0.0, 0.0, 1.0))))
+    if not defect <= RIGID_TOL:
+        raise ConfigurationError(f"IK target is not a rigid transform: its rotation must be orthonormal with det +1 "
+                                 f"(to {RIGID_TOL:g}) and its bottom row [0, 0, 0, 1]")
+    return arr[None, :3, 3], arr[None, :3, :3], True
 
 
 class Problem(NamedTuple):
