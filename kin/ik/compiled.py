@@ -136,10 +136,9 @@ class CompiledIK:
         self.hi = np.ascontiguousarray(self.chain.upper, dtype=float)
         self._p0 = np.ascontiguousarray(self.chain.parameter_values if self.n_p else np.zeros(1))
         self.threads = int(os.environ.get("RMTKIT_THREADS", "0"))
-        self.home = np.clip(0.0, self.lo, self.hi)
         self._lo_p, self._hi_p = self.lo.ctypes.data, self.hi.ctypes.data
         self._rb = ReachBound(self.chain).constants()
-        self._p0_p, self._home_p, self._rb_p = self._p0.ctypes.data, self.home.ctypes.data, self._rb.ctypes.data
+        self._p0_p, self._rb_p = self._p0.ctypes.data, self._rb.ctypes.data
         self._one = None
         self.weight = _length_scale(self.chain)
         lib.rmtik_beyond_batch.argtypes = [_ptr, _ptr, _ptr, ctypes.c_longlong, _ptr]
@@ -173,8 +172,8 @@ class CompiledIK:
               threads: int | None = None) -> dict[str, np.ndarray]:
         """Solve N targets in one call.
 
-        Pt (N, 3) m; Rt (N, 3, 3) or None (position mode); Q0 (n,) or (N, n) first start (None: the
-        home configuration); P design parameters (n_p,) or (N, n_p), None nominal; ``tol_cost``: the
+        Pt (N, 3) m; Rt (N, 3, 3) or None (position mode); Q0 (n,) or (N, n) first start (None: random
+        starts only); P design parameters (n_p,) or (N, n_p), None nominal; ``tol_cost``: the
         squared weighted error at which a start stops (default 10⁻⁸ of the tolerances, squared);
         ``reach``: give targets beyond :class:`ReachBound` 8 starts only (per-target parameters
         skip the test).  Returns a dict of ``q`` (N, n), ``success`` (N,) bool, ``position_error``,
@@ -195,9 +194,7 @@ class CompiledIK:
             if reach:
                 rb = None if P.ndim == 2 else ReachBound(self.chain, P).constants()
         q0stride = 0
-        if Q0 is None:
-            Q0 = self.home
-        else:
+        if Q0 is not None:
             Q0 = np.ascontiguousarray(Q0, dtype=float)
             q0stride = n if Q0.ndim == 2 else 0
         if tol_cost is None:
@@ -208,7 +205,7 @@ class CompiledIK:
         ints = np.empty((3, N), np.intc)
         ad = ints.ctypes.data
         self._solve(Pt.ctypes.data, None if Rt is None else Rt.ctypes.data, P.ctypes.data, pstride,
-                    Q0.ctypes.data, q0stride, self._lo_p, self._hi_p, None if rb is None else rb.ctypes.data,
+                    None if Q0 is None else Q0.ctypes.data, q0stride, self._lo_p, self._hi_p, None if rb is None else rb.ctypes.data,
                     N, int(Rt is not None), self.weight, float(tol_position), float(tol_orientation),
                     float(tol_cost), int(max_iter), max(int(max_starts), 1), int(seed) & 0xFFFFFFFFFFFFFFFF,
                     self.threads if threads is None else int(threads),
@@ -218,7 +215,7 @@ class CompiledIK:
 
 
     def _solve_one(self, pt, R, seed, max_starts, max_iter, tol_position, tol_orientation) -> dict[str, np.ndarray]:
-        """:meth:`solve` for one target from home, nominal parameters: through buffers whose
+        """:meth:`solve` for one target without warm start, nominal parameters: through buffers whose
         addresses are known (numpy's ``.ctypes`` and allocations cost more than the C call's set-up)."""
         b = self._one
         if b is None:
@@ -231,7 +228,7 @@ class CompiledIK:
             bp[:] = pt
             if R is not None:
                 bR[:] = R.ravel()
-            self._solve(ap, None if R is None else aR, self._p0_p, 0, self._home_p, 0, self._lo_p, self._hi_p,
+            self._solve(ap, None if R is None else aR, self._p0_p, 0, None, 0, self._lo_p, self._hi_p,
                         self._rb_p, 1, int(R is not None), self.weight, float(tol_position), float(tol_orientation),
                         tol_cost, int(max_iter), max(int(max_starts), 1), int(seed) & 0xFFFFFFFFFFFFFFFF, 1,
                         aq, ae, ae + 8, ai, ai + 4, ai + 8)

@@ -8,10 +8,11 @@ the joint limits and kept only when it lowers ‖e‖² (λ/3), otherwise λ·6.
 iterations, or when it stagnates: the cost fell by less than a factor ``STAG_RATIO`` over the last
 ``STAG_EVERY`` iterations while the start has not yet succeeded.
 
-A target tries its starts in order — the warm start ``q0`` (or the home configuration: zero
-projected onto the limits), then random configurations uniform within the limits, drawn from a
-splitmix64 stream keyed by (seed, target index, start index), so the answer does not depend on
-threads or on the other targets of a batch — and stops at the first start that succeeds.  A
+A target tries its starts in order — the warm start ``q0`` when given, then random configurations
+uniform within the limits, drawn from a splitmix64 stream keyed by (seed, target index, start
+index), so the answer does not depend on threads or on the other targets of a batch — and stops at
+the first start that succeeds.  (No "home" start: the zero configuration of many arms is singular,
+and a start there stays on the singular branch.)  A
 target beyond the chain's reach bound gets ``BEYOND_STARTS`` starts only (they look for the
 configuration nearest the target, whose residual is reported); other unreachable targets cost their ``max_starts`` starts, each cut short by the
 stagnation test.  When no start succeeds, the best one is iterated on without the stagnation test
@@ -237,7 +238,8 @@ void rmtik_beyond_batch(const double* rb, const double* pt, const double* Rt, lo
 
 /* Solve a batch of targets.
    pt: N×3 positions; Rt: N×3×3 rotations (row-major; NULL in position mode); p: parameters,
-   advanced by pstride per target; q0: warm starts advanced by q0stride per target; lo, hi: limits;
+   advanced by pstride per target; q0: warm starts advanced by q0stride per target (NULL: none);
+   lo, hi: limits;
    rb: reach-bound constants (NULL: no reach test);
    out: q N×n, pe, oe (N), status N (1 success, 0 not), starts N (starts used), iters N.
    Returns the number of successes. */
@@ -260,7 +262,7 @@ int rmtik_solve(const double* pt, const double* Rt, const double* p, long long p
     int ok = 0, k = 0, total = 0;
     int limit = (rb && rmtik_beyond(rb, tp, tR) && max_starts > BEYOND_STARTS) ? BEYOND_STARTS : max_starts;
     for (k = 0; k < limit && !ok; ++k) {{
-      if (k == 0) {{
+      if (k == 0 && q0) {{
         for (int i = 0; i < RMT_N; ++i) {{
           double v = q0[t*q0stride + i];
           cur[i] = v < lo[i] ? lo[i] : (v > hi[i] ? hi[i] : v);

@@ -4,9 +4,9 @@ when a C compiler works, the numpy solver (:mod:`kin.ik.numeric`) otherwise.
 Both minimise the same weighted pose error with the same damped least-squares step and the same
 honest verdict: success only when the position and orientation errors of the returned
 configuration (inside the joint limits) are within the tolerances.  They differ in how restarts
-end: the compiled solver stops at the first start that succeeds (the warm start ``q0`` or the home
-configuration first), the numpy one runs a round of starts and keeps the successful one nearest
-``q0``/home.
+end: the compiled solver stops at the first start that succeeds (the warm start ``q0`` first), the
+numpy one runs a round of starts and keeps the successful one nearest ``q0`` (or the home
+configuration).
 """
 from __future__ import annotations
 
@@ -34,7 +34,7 @@ def solve_ik(robot, T, seed: int = 0, q0=None, mode: str = "auto", restarts: int
     mode : ``"pose"``, ``"position"`` or ``"auto"`` (pose for a chain that controls all six rows
         and a 4×4 target, position otherwise).
     restarts, rounds : at most ``restarts · rounds`` random starts (uniform within the limits) after
-        the first one (q0, or the home configuration: zero projected onto the limits).
+        the first one (q0, or one more random start).
     max_iter : iterations per start.
     tol_position, tol_orientation : success tolerances (m, rad); 1e-10 is reachable.
     params : design parameters (mapping, (n_p,) or (N, n_p)); None: nominal.
