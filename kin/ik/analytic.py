@@ -34,7 +34,7 @@ import numpy as np
 from kin.chain import Chain
 from kin.errors import RmtError
 from kin.ik.numeric import _targets
-from kin.transforms import rotation_error
+from kin.transforms import make_transform, rot_x, rot_z, rotation_error
 
 __all__ = ["NoClosedFormError", "PieperArm", "analytic_ik", "pieper_arm"]
 
@@ -46,13 +46,11 @@ class NoClosedFormError(RmtError):
 
 
 def _rx(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[1.0, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1]])
+    return make_transform(rot_x(a))
 
 
 def _rz(t: float) -> np.ndarray:
-    c, s = math.cos(t), math.sin(t)
-    return np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1.0, 0], [0, 0, 0, 1]])
+    return make_transform(rot_z(t))
 
 
 def _trans(x: float = 0.0, z: float = 0.0) -> np.ndarray:
