@@ -79,6 +79,12 @@ class PieperArm:
         f = _rx(al[2]) @ _trans(a[2]) @ _rz(t3) @ _trans(z=d[2]) @ p3
         return f[:3] + np.array([0.0, 0.0, d[1]])
 
+    def h_terms(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(h₀, h_c, h_s) with h(θ₃) = h₀ + h_c·cos θ₃ + h_s·sin θ₃ (h is linear in cos θ₃, sin θ₃)."""
+        hA, hB, hC = self.h(0.0), self.h(math.pi / 2), self.h(math.pi)
+        h0 = (hA + hC) / 2
+        return h0, (hA - hC) / 2, hB - h0
+
 
 def pieper_arm(chain: Chain, params=None) -> PieperArm:
     """The closed-form structure of ``chain`` (design parameters at ``params`` or nominal); raises
@@ -102,10 +108,10 @@ def pieper_arm(chain: Chain, params=None) -> PieperArm:
 
 
 def _trig_roots(F, scale: float) -> list[float]:
-    """Real roots in (−π, π] of F(θ), a trigonometric polynomial of degree ≤ 2 (F·(1 + u²)² is a
-    quartic in u = tan θ/2)."""
+    """Real roots in (−π, π] of F(θ) → (value, derivative), a trigonometric polynomial of degree ≤ 2
+    (F·(1 + u²)² is a quartic in u = tan θ/2), each polished by Newton steps that lower |F|."""
     us = np.array([-2.0, -1.0, 0.0, 1.0, 2.0])
-    vals = np.array([F(2 * math.atan(u)) * (1 + u * u) ** 2 for u in us])
+    vals = np.array([F(2 * math.atan(u))[0] * (1 + u * u) ** 2 for u in us])
     coef = np.linalg.solve(np.vander(us, 5), vals)          # highest power first
     big = np.abs(coef).max()
     if big <= 1e-14 * scale:
@@ -121,17 +127,16 @@ def _trig_roots(F, scale: float) -> list[float]:
             if abs(u.imag) <= 1e-5 * (1 + abs(u.real)):
                 roots.append(2 * math.atan(u.real))
     out = []
-    for t in roots:                                          # Newton polish on F itself
-        for _ in range(6):
-            f0 = F(t)
-            dt = 1e-7
-            df = (F(t + dt) - F(t - dt)) / (2 * dt)
-            if df == 0 or not math.isfinite(df):
+    for t in roots:
+        f0, df = F(t)
+        for _ in range(8):
+            if df == 0 or not math.isfinite(df) or f0 == 0:
                 break
-            step = f0 / df
-            t -= step
-            if abs(step) < 1e-15:
+            tn = t - f0 / df
+            fn, dfn = F(tn)
+            if not abs(fn) < abs(f0):
                 break
+            t, f0, df = tn, fn, dfn
         out.append(math.atan2(math.sin(t), math.cos(t)))
     return out
 
@@ -159,18 +164,24 @@ def _arm_candidates(arm: PieperArm, W: np.ndarray) -> list[np.ndarray]:
     use_r, use_z = abs(a1) > _EPS, abs(s1) > 1e-12      # θ₂ appears in r / in z
     scale = max(r, 1e-6)
 
-    def F(t3: float) -> float:
-        h = arm.h(t3)
-        R = (r - a1 * a1 - h @ h) / (2 * a1) if use_r else 0.0
-        Z = (z - c1 * h[2]) / s1 if use_z else 0.0
+    h0, hc, hs = arm.h_terms()
+
+    def F(t3: float) -> tuple[float, float]:
+        c3, s3 = math.cos(t3), math.sin(t3)
+        h = h0 + hc * c3 + hs * s3
+        dh = hs * c3 - hc * s3
+        rr, drr = r - a1 * a1 - h @ h, -2.0 * (h @ dh)      # r − a₁² − |h|² and its derivative
+        zz, dzz = z - c1 * h[2], -c1 * dh[2]
         if use_r and use_z:
-            return R * R + Z * Z - (h[0] ** 2 + h[1] ** 2)
+            R, Z = rr / (2 * a1), zz / s1
+            return (R * R + Z * Z - (h[0] ** 2 + h[1] ** 2),
+                    2 * R * drr / (2 * a1) + 2 * Z * dzz / s1 - 2 * (h[0] * dh[0] + h[1] * dh[1]))
         # θ₂ drops out of r when a₁ = 0, out of z when sin α₁ = 0: that equation alone fixes θ₃
-        return (r - a1 * a1 - h @ h) if not use_r else (z - c1 * h[2])
+        return (rr, drr) if not use_r else (zz, dzz)
 
     out = []
     for t3 in _trig_roots(F, scale):
-        h = arm.h(t3)
+        h = h0 + hc * math.cos(t3) + hs * math.sin(t3)
         k1, k2 = h[0], -h[1]
         R = (r - a1 * a1 - h @ h) / (2 * a1) if use_r else None
         Z = (z - c1 * h[2]) / s1 if use_z else None
