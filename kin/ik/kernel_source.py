@@ -9,9 +9,9 @@ iterations, or when it stagnates: the cost fell by less than a factor ``STAG_RAT
 ``STAG_EVERY`` iterations while the start has not yet succeeded.
 
 A target tries its starts in order — the warm start ``q0`` when given, then random configurations
-uniform within the limits, drawn from a splitmix64 stream keyed by (seed, target index, start
-index), so the answer does not depend on threads or on the other targets of a batch — and stops at
-the first start that succeeds.  (No "home" start: the zero configuration of many arms is singular,
+uniform within the limits, drawn from a splitmix64 stream keyed by the seed, the target's values
+and the start index — so the answer does not depend on threads, on the other targets of a batch or
+on the target's place in it — and stops at the first start that succeeds.  (No "home" start: the zero configuration of many arms is singular,
 and a start there stays on the singular branch.)  A
 target beyond the chain's reach bound gets ``BEYOND_STARTS`` starts only (they look for the
 configuration nearest the target, whose residual is reported); other unreachable targets cost their ``max_starts`` starts, each cut short by the
@@ -260,6 +260,12 @@ int rmtik_solve(const double* pt, const double* Rt, const double* p, long long p
     const double* tR = Rt ? Rt + 9*t : NULL;
     double best[RMT_N], bpe = INFINITY, boe = INFINITY, bres = INFINITY, cur[RMT_N], cpe, coe;
     int ok = 0, k = 0, total = 0;
+    uint64_t key = rmtik_mix(seed);                  /* the random starts depend on the seed and the target's values */
+    for (int i = 0; i < (tR ? 12 : 3); ++i) {{
+      uint64_t bits;
+      memcpy(&bits, i < 3 ? tp + i : tR + (i - 3), sizeof bits);
+      key = rmtik_mix(key ^ bits);
+    }}
     int limit = (rb && rmtik_beyond(rb, tp, tR) && max_starts > BEYOND_STARTS) ? BEYOND_STARTS : max_starts;
     for (k = 0; k < limit && !ok; ++k) {{
       if (k == 0 && q0) {{
@@ -268,7 +274,7 @@ int rmtik_solve(const double* pt, const double* Rt, const double* p, long long p
           cur[i] = v < lo[i] ? lo[i] : (v > hi[i] ? hi[i] : v);
         }}
       }} else {{
-        uint64_t s = rmtik_mix(seed ^ rmtik_mix((uint64_t)t * 0x100000001B3ull + (uint64_t)k));
+        uint64_t s = rmtik_mix(key + (uint64_t)k);
         for (int i = 0; i < RMT_N; ++i) {{
           s = rmtik_mix(s);
           double u = (double)(s >> 11) * 0x1.0p-53;

@@ -29,7 +29,8 @@ def solve_ik(robot, T, seed: int = 0, q0=None, mode: str = "auto", restarts: int
     ----------
     T : target pose (4, 4) or batch (N, 4, 4), base frame, SI; or a position (3,) / (N, 3).  A pose
         must be a rigid transform (else :class:`~kin.errors.ConfigurationError`).
-    seed : seed of the random starts (same seed, same answer, whatever the batch or thread count).
+    seed : seed of the random starts (same seed and target, same answer: alone or in any batch, on any
+        number of threads).
     q0 : warm start (n,) or (N, n), tried first (e.g. the previous waypoint of a path).
     mode : ``"pose"``, ``"position"`` or ``"auto"`` (pose for a chain that controls all six rows
         and a 4×4 target, position otherwise).

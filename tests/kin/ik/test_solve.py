@@ -69,7 +69,7 @@ def test_accuracy_1e_10_when_asked(name):
     assert c.within_limits(res.q).all()
 
 
-def test_thread_count_and_batch_split_do_not_change_answers():
+def test_thread_count_batch_order_and_single_calls_do_not_change_answers():
     r = robot("fanuc_m16ib20")
     c = r.chain
     T = np.array([fk_numpy(c, q) for q in random_q(c, 40, seed=8)])
@@ -80,6 +80,13 @@ def test_thread_count_and_batch_split_do_not_change_answers():
     np.testing.assert_array_equal(a.success, b.success)
     c2 = r.ik(T, seed=6, threads=1)                # another seed: other random starts, same verdicts
     np.testing.assert_array_equal(a.success, c2.success)
+    perm = np.random.default_rng(0).permutation(len(T))
+    d = r.ik(T[perm], seed=5)                      # the same targets in another order
+    np.testing.assert_array_equal(d.q, a.q[perm])
+    for k in (0, 3, 17):                           # and one at a time
+        one = r.ik(T[k], seed=5)
+        np.testing.assert_array_equal(one.q, a.q[k])
+        assert one.success == a.success[k] and one.position_error == a.position_error[k]
 
 
 def _rigid(seed=0):
