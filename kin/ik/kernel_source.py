@@ -30,7 +30,7 @@ IK_TEMPLATE = r"""
 #include <string.h>
 #include <stdint.h>
 #define RMT_N {n}
-#define STAG_EVERY 10
+#define STAG_EVERY 5
 #define STAG_RATIO 0.8
 #define BEYOND_STARTS 8
 
