@@ -120,19 +120,43 @@ def unreachable_targets(robot, T: np.ndarray, seed: int, count: int) -> dict[str
 def _stats_ms(times: list[float]) -> dict:
     t = np.array(times) * 1e3
     return {"median_ms": float(np.median(t)), "p95_ms": float(np.percentile(t, 95)), "mean_ms": float(t.mean()),
-            "max_ms": float(t.max()), "count": len(t)}
+            "max_ms": float(t.max()), "count": len(t), "times_ms": t.tolist()}
 
 
-def bench_rmtkit_single(robot, T: np.ndarray) -> dict:
-    chain = robot.chain
-    times, ok, false = [], 0, 0
-    for Tk in T:
-        t0 = time.perf_counter()
-        res = robot.ik(Tk, seed=0)
-        times.append(time.perf_counter() - t0)
-        ok += res.success
-        false += false_success(chain, res.success, res.q, Tk)
-    return {**_stats_ms(times), "successes": ok, "success_rate": ok / len(T), "false_successes": false}
+def interleaved(solvers: dict, chain, T: np.ndarray, reachable: bool = True) -> dict:
+    """Time ``solve(T) -> (success, q)`` of every solver on every target, one target at a time, the
+    solvers taking turns on each target (so that they share whatever load the machine has).
+
+    Returns per solver: median / p95 / mean / max (ms), success rate and false successes (on
+    reachable targets: flagged solved but missing the target by the independent FK; on unreachable
+    ones: any success)."""
+    names = list(solvers)
+    rec = {k: {"times": [], "ok": 0, "false": 0} for k in names}
+    for i, Tk in enumerate(T):
+        for k in names[i % len(names):] + names[:i % len(names)]:
+            t0 = time.perf_counter()
+            ok, q = solvers[k](Tk)
+            rec[k]["times"].append(time.perf_counter() - t0)
+            rec[k]["ok"] += bool(ok)
+            rec[k]["false"] += false_success(chain, bool(ok), q, Tk) if reachable else bool(ok)
+    out = {}
+    for k, r in rec.items():
+        out[k] = {**_stats_ms(r["times"]), "success_rate": r["ok"] / len(T), "false_successes": r["false"],
+                  "loop_solves_per_s": len(T) / float(np.sum(r["times"]))}
+    return out
+
+
+def solvers(robot) -> dict:
+    """rmtkit's ``robot.ik`` and, when installed, roboticstoolbox's ``ETS.ik_LM`` at the matched and at
+    its default tolerance, as ``T -> (success, q)``; plus a note when the peer is missing."""
+    out = {"rmtkit": lambda Tk: (lambda r: (r.success, r.q))(robot.ik(Tk, seed=0))}
+    try:
+        ets = rtb_robot(robot.chain).ets()
+    except ImportError as e:
+        return out | {"_skipped": f"roboticstoolbox-python not installed ({e}); pip install -e '.[bench]'"}
+    out["rtb_ik_LM"] = lambda Tk: (lambda s: (s.success, s.q))(ets.ik_LM(Tk, tol=RTB_TOL))
+    out["rtb_ik_LM_default_tol"] = lambda Tk: (lambda s: (s.success, s.q))(ets.ik_LM(Tk))
+    return out
 
 
 def bench_rmtkit_batch(robot, T: np.ndarray, threads: int, repeats: int) -> dict:
@@ -145,39 +169,6 @@ def bench_rmtkit_batch(robot, T: np.ndarray, threads: int, repeats: int) -> dict
     false = sum(false_success(robot.chain, s, q, Tk) for s, q, Tk in zip(res.success, res.q, T))
     return {"threads": threads, "median_s": med, "solves_per_s": len(T) / med, "repeats": repeats,
             "success_rate": float(res.success.mean()), "false_successes": int(false), "q": res.q}
-
-
-def bench_unreachable(solve, chain, U: np.ndarray) -> dict:
-    """Time per verdict of ``solve(T) -> (success, q)`` on out-of-reach targets."""
-    times, false = [], 0
-    for Uk in U:
-        t0 = time.perf_counter()
-        ok, q = solve(Uk)
-        times.append(time.perf_counter() - t0)
-        false += bool(ok)          # no configuration within the limits reaches these targets
-    return {**_stats_ms(times), "false_successes": false}
-
-
-def bench_rtb(chain, T: np.ndarray, U: np.ndarray) -> dict:
-    """roboticstoolbox ``ETS.ik_LM`` (C++), one call per target, at matched and at default tolerance."""
-    try:
-        ets = rtb_robot(chain).ets()
-    except ImportError as e:
-        return {"skipped": f"roboticstoolbox-python not installed ({e}); pip install -e '.[bench]'"}
-    out = {"tol_E": RTB_TOL}
-    for label, tol in (("matched", RTB_TOL), ("default_tol", 1e-6)):
-        times, ok, false = [], 0, 0
-        for Tk in T:
-            t0 = time.perf_counter()
-            sol = ets.ik_LM(Tk, tol=tol)
-            times.append(time.perf_counter() - t0)
-            ok += bool(sol.success)
-            false += false_success(chain, bool(sol.success), sol.q, Tk)
-        out[label] = {**_stats_ms(times), "success_rate": ok / len(T), "false_successes": false,
-                      "loop_solves_per_s": len(T) / float(np.sum(times))}
-    out["unreachable"] = bench_unreachable(lambda Uk: (lambda s: (s.success, s.q))(ets.ik_LM(Uk, tol=RTB_TOL)),
-                                           chain, U)
-    return out
 
 
 def _check(key: str, value) -> dict:
@@ -197,8 +188,10 @@ def run(name: str, N: int, quick: bool, log=None) -> dict:
     chain = robot.chain
     T = reachable_targets(robot, N, SEED)
     robot.ik(T[:2], seed=0)                       # compile (or load) outside the timings
-    say(f"rmtkit: {N} single solves ...")
-    single = bench_rmtkit_single(robot, T)
+    fns = solvers(robot)
+    skipped = fns.pop("_skipped", None)
+    say(f"{N} single solves, {', '.join(fns)} taking turns ...")
+    single = interleaved(fns, chain, T)
     repeats = 2 if quick else 3
     say("rmtkit: batch on 1 and 2 threads ...")
     b1 = bench_rmtkit_batch(robot, T, 1, repeats)
@@ -206,67 +199,62 @@ def run(name: str, N: int, quick: bool, log=None) -> dict:
     same = bool(np.array_equal(b1.pop("q"), b2.pop("q")))
     say("unreachable targets ...")
     sets = unreachable_targets(robot, T, SEED + 1, 30 if quick else 150)
-    U = np.concatenate(list(sets.values()))
-    unreach = bench_unreachable(lambda Uk: (lambda r: (r.success, r.q))(robot.ik(Uk, seed=0)), chain, U)
-    unreach["by_kind"] = {kind: bench_unreachable(lambda Uk: (lambda r: (r.success, r.q))(robot.ik(Uk, seed=0)),
-                                                  chain, V) for kind, V in sets.items() if len(V)}
+    fns.pop("rtb_ik_LM_default_tol", None)
+    unreach = {kind: interleaved(fns, chain, V, reachable=False) for kind, V in sets.items() if len(V)}
     t0 = time.perf_counter()
     branches = [len(analytic_ik(robot, Tk)) for Tk in T[:100]]
     analytic_ms = (time.perf_counter() - t0) / 100 * 1e3
-    say("roboticstoolbox ik_LM ...")
-    rtb = bench_rtb(chain, T[:200] if quick else T, U)
+    all_u = {k: np.concatenate([np.array(v[k]["times_ms"]) for v in unreach.values()]) for k in fns}
+    u_med = {k: float(np.median(v)) for k, v in all_u.items()}
+    s1 = single["rmtkit"]
     ratios = {}
-    if "matched" in rtb:
-        ratios["single_median_rtb_over_rmtkit"] = rtb["matched"]["median_ms"] / single["median_ms"]
-        ratios["batch_1_thread_over_rtb_loop"] = b1["solves_per_s"] / rtb["matched"]["loop_solves_per_s"]
-        ratios["unreachable_median_rtb_over_rmtkit"] = rtb["unreachable"]["median_ms"] / unreach["median_ms"]
-    false_total = single["false_successes"] + b1["false_successes"] + b2["false_successes"] + unreach["false_successes"]
+    if "rtb_ik_LM" in single:
+        ratios["single_median_rtb_over_rmtkit"] = single["rtb_ik_LM"]["median_ms"] / s1["median_ms"]
+        ratios["batch_1_thread_over_rtb_loop"] = b1["solves_per_s"] / single["rtb_ik_LM"]["loop_solves_per_s"]
+        ratios["unreachable_median_rtb_over_rmtkit"] = u_med["rtb_ik_LM"] / u_med["rmtkit"]
+    false_total = (s1["false_successes"] + b1["false_successes"] + b2["false_successes"]
+                   + sum(v["rmtkit"]["false_successes"] for v in unreach.values()))
     load1 = os.getloadavg()[0]
     return {
         "benchmark": "bench_ik", "robot": name, "targets": N, "quick": quick,
         "environment": {"python": platform.python_version(), "numpy": np.__version__, "cpu_count": os.cpu_count(),
                         "loadavg_1min_before": load0, "loadavg_1min_after": load1,
                         "provisional": max(load0, load1) > 1.0},
-        "rmtkit_single": single, "rmtkit_batch_1_thread": b1, "rmtkit_batch_2_threads": b2,
+        "single": single, "peer_skipped": skipped, "rmtkit_batch_1_thread": b1, "rmtkit_batch_2_threads": b2,
         "batch_same_answers_1_vs_2_threads": same,
-        "unreachable": {"count": len(U), "rmtkit": unreach},
+        "unreachable": {"by_kind": unreach, "median_ms": u_med},
         "analytic": {"ms_per_target_all_branches": analytic_ms, "branch_counts_first_100": np.bincount(branches).tolist()},
-        "roboticstoolbox_ik_LM": rtb, "ratios": ratios,
-        "checks": [_check("single_median_ms", single["median_ms"]),
+        "ratios": ratios,
+        "checks": [_check("single_median_ms", s1["median_ms"]),
                    _check("batch_2_threads_per_s", b2["solves_per_s"]),
-                   _check("unreachable_median_ms", unreach["median_ms"]),
-                   _check("success_rate", single["success_rate"]),
+                   _check("unreachable_median_ms", u_med["rmtkit"]),
+                   _check("success_rate", s1["success_rate"]),
                    _check("false_successes", float(false_total))],
         "elapsed_s": time.perf_counter() - t_start,
     }
 
 
 def format_report(R: dict) -> str:
-    env, s, b1, b2, u = R["environment"], R["rmtkit_single"], R["rmtkit_batch_1_thread"], R["rmtkit_batch_2_threads"], \
-        R["unreachable"]["rmtkit"]
+    env, b1, b2 = R["environment"], R["rmtkit_batch_1_thread"], R["rmtkit_batch_2_threads"]
     L = [f"bench_ik — {R['robot']}, {R['targets']} reachable full poses{' [quick]' if R['quick'] else ''}",
          f"load average before / after: {env['loadavg_1min_before']:.2f} / {env['loadavg_1min_after']:.2f}"
          f"{'  — PROVISIONAL: the machine is loaded' if env['provisional'] else ''}",
-         f"rmtkit single   : median {s['median_ms']:.4f} ms, p95 {s['p95_ms']:.4f} ms; success "
-         f"{100 * s['success_rate']:.2f} %, false successes {s['false_successes']}",
-         f"rmtkit batch    : 1 thread {b1['solves_per_s']:,.0f}/s, 2 threads {b2['solves_per_s']:,.0f}/s "
-         f"(same answers: {R['batch_same_answers_1_vs_2_threads']})",
-         f"unreachable     : {R['unreachable']['count']} targets, median {u['median_ms']:.3f} ms, p95 "
-         f"{u['p95_ms']:.3f} ms, false successes {u['false_successes']}; by kind: "
-         + ", ".join(f"{k} ({v['count']}) median {v['median_ms']:.3f} / p95 {v['p95_ms']:.3f} ms"
-                     for k, v in u["by_kind"].items()),
-         f"analytic (all branches): {R['analytic']['ms_per_target_all_branches']:.2f} ms per target"]
-    rtb = R["roboticstoolbox_ik_LM"]
-    if "skipped" in rtb:
-        L.append(f"roboticstoolbox : skipped — {rtb['skipped']}")
-    else:
-        m, d, ru = rtb["matched"], rtb["default_tol"], rtb["unreachable"]
-        L.append(f"rtb ik_LM (tol E={rtb['tol_E']:g}): median {m['median_ms']:.4f} ms, p95 {m['p95_ms']:.4f} ms, "
-                 f"{m['loop_solves_per_s']:,.0f}/s; success {100 * m['success_rate']:.2f} %, false {m['false_successes']}")
-        L.append(f"rtb ik_LM (default tol=1e-6): median {d['median_ms']:.4f} ms; success {100 * d['success_rate']:.2f} %,"
-                 f" of which wrong by > 1e-6: {d['false_successes']}")
-        L.append(f"rtb unreachable : median {ru['median_ms']:.3f} ms, p95 {ru['p95_ms']:.3f} ms")
-        L.append("ratios          : " + ", ".join(f"{k} {v:.2f}" for k, v in R["ratios"].items()))
+         "one target at a time (solvers taking turns on each target):"]
+    for k, v in R["single"].items():
+        L.append(f"  {k:22s} median {v['median_ms']:.4f} ms, p95 {v['p95_ms']:.4f} ms, {v['loop_solves_per_s']:9,.0f}/s;"
+                 f" success {100 * v['success_rate']:6.2f} %, false successes {v['false_successes']}")
+    if R["peer_skipped"]:
+        L.append(f"  roboticstoolbox skipped — {R['peer_skipped']}")
+    L.append(f"rmtkit batch: 1 thread {b1['solves_per_s']:,.0f}/s, 2 threads {b2['solves_per_s']:,.0f}/s "
+             f"(same answers: {R['batch_same_answers_1_vs_2_threads']}; false successes {b1['false_successes']}, "
+             f"{b2['false_successes']})")
+    L.append("unreachable targets (time to 'no'):")
+    for kind, per in R["unreachable"]["by_kind"].items():
+        L.append(f"  {kind:12s} " + "; ".join(f"{k} median {v['median_ms']:.3f} / p95 {v['p95_ms']:.3f} ms"
+                                              f" ({v['count']}, false {v['false_successes']})" for k, v in per.items()))
+    L.append(f"analytic IK (all branches): {R['analytic']['ms_per_target_all_branches']:.2f} ms per target")
+    if R["ratios"]:
+        L.append("ratios: " + ", ".join(f"{k} {v:.2f}" for k, v in R["ratios"].items()))
     L.append("targets:")
     for c in R["checks"]:
         L.append(f"  [{c['status']}] {c['what']}: {c['value']:.6g} (target {c['target']})")
@@ -290,7 +278,13 @@ def main(argv=None) -> int:
     except kin.RmtError as e:
         print(f"bench_ik: {e}", file=sys.stderr)
         return 2
-    print(json.dumps(R, default=float) if args.json else format_report(R))
+    if args.json:
+        for per in [R["single"], *R["unreachable"]["by_kind"].values()]:
+            for v in per.values():
+                v.pop("times_ms", None)
+        print(json.dumps(R, default=float))
+    else:
+        print(format_report(R))
     return 0
 
 
