@@ -245,6 +245,10 @@ def compiled_ik(robot) -> CompiledIK | None:
     """The compiled solver of ``robot`` (built on first use, then kept), or None when there is no
     working C compiler (``RMTKIT_CC=none``), the robot asks for the ``vm`` backend, or compiling
     fails — the caller then uses the numpy solver."""
+    try:
+        return _cache[robot]
+    except KeyError:
+        pass
     with _lock:
         if robot in _cache:
             return _cache[robot]

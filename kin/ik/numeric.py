@@ -67,13 +67,16 @@ def _targets(T, n_targets_hint: str) -> tuple[np.ndarray, np.ndarray | None, boo
 
 
 def _one_pose(arr: np.ndarray) -> tuple[np.ndarray, np.ndarray, bool]:
-    (r00, r01, r02, px), (r10, r11, r12, py), (r20, r21, r22, pz), bottom = arr.tolist()
-    if not all(map(math.isfinite, (r00, r01, r02, px, r10, r11, r12, py, r20, r21, r22, pz, *bottom))):
+    (a, b, c, px), (d, e, f, py), (g, h, i, pz), (w0, w1, w2, w3) = arr.tolist()
+    zero = 0.0 * a + 0.0 * b + 0.0 * c + 0.0 * px + 0.0 * d + 0.0 * e + 0.0 * f + 0.0 * py \
+        + 0.0 * g + 0.0 * h + 0.0 * i + 0.0 * pz + 0.0 * w0 + 0.0 * w1 + 0.0 * w2 + 0.0 * w3
+    if zero != 0.0:                  # 0·x is NaN exactly when x is NaN or ±inf (and never overflows)
         raise ConfigurationError("IK target holds NaN or infinite values")
-    cols = ((r00, r10, r20), (r01, r11, r21), (r02, r12, r22))
-    defect = max(abs(sum(a * b for a, b in zip(cols[i], cols[j])) - (i == j)) for i in range(3) for j in range(i, 3))
-    det = (r00 * (r11 * r22 - r12 * r21) - r01 * (r10 * r22 - r12 * r20) + r02 * (r10 * r21 - r11 * r20))
-    defect = max(defect, abs(det - 1.0), *(abs(b - e) for b, e in zip(bottom, (0.0, 0.0, 0.0, 1.0))))
+    # columns orthonormal (RᵀR = I), det R = 1, bottom row [0, 0, 0, 1]
+    defect = max(abs(a * a + d * d + g * g - 1.0), abs(b * b + e * e + h * h - 1.0), abs(c * c + f * f + i * i - 1.0),
+                 abs(a * b + d * e + g * h), abs(a * c + d * f + g * i), abs(b * c + e * f + h * i),
+                 abs(a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g) - 1.0),
+                 abs(w0), abs(w1), abs(w2), abs(w3 - 1.0))
     if not defect <= RIGID_TOL:
         raise ConfigurationError(f"IK target is not a rigid transform: its rotation must be orthonormal with det +1 "
                                  f"(to {RIGID_TOL:g}) and its bottom row [0, 0, 0, 1]")
@@ -87,7 +90,7 @@ class Problem(NamedTuple):
     Rt: np.ndarray | None          # (N, 3, 3) target rotations; None in position mode
     single: bool                   # one target given (scalar results)
     Q0: np.ndarray | None          # (N, n) warm starts inside the limits, or None
-    P: np.ndarray                  # design parameters (n_p,) or (N, n_p)
+    P: np.ndarray | None           # design parameters (n_p,) or (N, n_p); None: nominal
 
 
 def prepare(robot, T, q0, mode: str, params, tol_position: float, tol_orientation: float) -> Problem:
@@ -113,8 +116,8 @@ def prepare(robot, T, q0, mode: str, params, tol_position: float, tol_orientatio
         if len(Q0) not in (1, N):
             raise ConfigurationError(f"q0 has {len(Q0)} rows for {N} targets")
         Q0 = np.clip(np.broadcast_to(Q0, (N, n)), chain.lower, chain.upper)
-    P = chain.parameter_values if params is None else robot._params(params, N)
-    if P.ndim == 2 and P.shape[0] != N:
+    P = None if params is None else robot._params(params, N)
+    if P is not None and P.ndim == 2 and P.shape[0] != N:
         raise ConfigurationError(f"parameter batch has {P.shape[0]} rows for {N} targets")
     return Problem(Pt, Rt, single, Q0, P)
 
@@ -143,6 +146,7 @@ def solve_ik(robot, T, seed: int = 0, q0=None, mode: str = "auto", restarts: int
     chain = robot.chain
     n = chain.n
     Pt, Rt, single, Q0, P = prepare(robot, T, q0, mode, params, tol_position, tol_orientation)
+    P = chain.parameter_values if P is None else P
     N = len(Pt)
     rng = np.random.default_rng(seed)
     lo, hi = chain.lower, chain.upper
@@ -257,7 +261,7 @@ def local_ik(robot, T, q, mode: str = "auto", max_iter: int = 150, tol_position:
     if Q0 is None:
         raise ConfigurationError("local IK needs a warm start q")
     N = len(Pt)
-    lm = _LM(robot, P, _length_scale(robot.chain), tol_position, tol_orientation, max_iter)
+    lm = _LM(robot, robot.chain.parameter_values if P is None else P, _length_scale(robot.chain), tol_position, tol_orientation, max_iter)
     Q, pe, oe = lm.run(Q0, Pt, Rt, np.arange(N))
     ok = (pe <= tol_position) & (oe <= tol_orientation)
     if single:

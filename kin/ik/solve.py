@@ -63,7 +63,7 @@ def solve_ik(robot, T, seed: int = 0, q0=None, mode: str = "auto", restarts: int
     for name, v in (("restarts", restarts), ("rounds", rounds), ("max_iter", max_iter)):
         if int(v) < 0 or int(v) != v:
             raise ConfigurationError(f"IK {name} = {v} must be a non-negative integer")
-    out = solver.solve(Pt, Rt, Q0, None if params is None else P, seed=seed,
+    out = solver.solve(Pt, Rt, Q0, P, seed=seed,
                        max_starts=1 + max(int(restarts), 1) * max(int(rounds), 1), max_iter=int(max_iter),
                        tol_position=tol_position, tol_orientation=tol_orientation, threads=threads)
     return _result(out, single)
@@ -95,6 +95,6 @@ def local_ik(robot, T, q, mode: str = "auto", max_iter: int = 150, tol_position:
         return numeric.local_ik(robot, T, q, mode=mode, max_iter=max_iter, tol_position=tol_position,
                                 tol_orientation=tol_orientation, params=params)
     Pt, Rt, single, Q0, P = prepare(robot, T, q, mode, params, tol_position, tol_orientation)
-    out = solver.solve(Pt, Rt, Q0, None if params is None else P, max_starts=1, max_iter=int(max_iter),
+    out = solver.solve(Pt, Rt, Q0, P, max_starts=1, max_iter=int(max_iter),
                        tol_position=tol_position, tol_orientation=tol_orientation, reach=False, threads=threads)
     return _result(out, single)
