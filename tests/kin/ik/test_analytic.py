@@ -126,3 +126,18 @@ def test_general_6r_is_refused_and_position_targets_too():
         pieper_arm(random_chain(3, n=6, types=("revolute",) * 6))
     with pytest.raises(NoClosedFormError, match="pose target"):
         analytic_ik(kin.load_robot("puma560"), np.array([0.3, 0.1, 0.4]))
+
+
+@pytest.mark.parametrize("name", SPHERICAL)
+def test_wrist_singular_poses_still_get_verified_branches(name):
+    """θ₅ = 0: axes 4 and 6 align and θ₄ + θ₆ is all that matters; one member of that family per branch."""
+    r = kin.load_robot(name)
+    c = r.chain
+    Q = random_q(c, 10, seed=2)
+    Q[:, 4] = 0.0
+    for q in Q:
+        T = fk_numpy(c, q)
+        B = analytic_ik(r, T)
+        assert len(B) >= 1
+        for b in B:
+            assert np.abs(fk_numpy(c, b) - T).max() <= 1e-9
