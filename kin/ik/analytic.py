@@ -281,15 +281,19 @@ def _verified(robot, cands, Tt, P, arm, tol, ref) -> np.ndarray:
     if not cands:
         return np.zeros((0, 6))
     Q = np.array(cands)
+    ep, eo, J, _ = _errors(robot, Q, Tt, P)
     for _ in range(2):                                       # Gauss–Newton polish on the real FK
-        ep, eo, J, _ = _errors(robot, Q, Tt, P)
         e = np.concatenate([ep, eo], axis=1)
-        step = (np.linalg.pinv(J, rcond=1e-10) @ e[:, :, None])[:, :, 0]
-        Qn = np.clip(Q + step, arm.lower, arm.upper)
-        epn, eon, _, _ = _errors(robot, Qn, Tt, P)
-        better = np.linalg.norm(np.concatenate([epn, eon], 1), axis=1) < np.linalg.norm(e, axis=1)
-        Q[better] = Qn[better]
-    ep, eo, _, _ = _errors(robot, Q, Tt, P)
+        err = np.linalg.norm(e, axis=1)
+        todo = err > 1e-14                                   # the closed form is usually exact already
+        if not todo.any():
+            break
+        step = (np.linalg.pinv(J[todo], rcond=1e-10) @ e[todo, :, None])[:, :, 0]
+        Qn = np.clip(Q[todo] + step, arm.lower, arm.upper)
+        epn, eon, Jn, _ = _errors(robot, Qn, Tt, P)
+        better = np.linalg.norm(np.concatenate([epn, eon], 1), axis=1) < err[todo]
+        idx = np.nonzero(todo)[0][better]
+        Q[idx], ep[idx], eo[idx], J[idx] = Qn[better], epn[better], eon[better], Jn[better]
     ok = (np.linalg.norm(ep, axis=1) <= tol) & (np.linalg.norm(eo, axis=1) <= tol)
     Q = Q[ok]
     keep: list[np.ndarray] = []
