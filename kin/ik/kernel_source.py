@@ -2,21 +2,23 @@
 
 One start is a Levenberg–Marquardt (damped least squares) iteration on the weighted pose error
 e = [p* − p(q); w·log(R*·R(q)ᵀ)] (the error of :mod:`kin.ik.numeric`; position rows only in
-position mode): (JᵀJ + λ·diag(JᵀJ) + λ·10⁻⁶·I)·Δq = Jᵀe solved by Cholesky, the step projected onto
-the joint limits and kept only when it lowers ‖e‖² (λ/3), otherwise λ·6.  A start ends when
-‖e‖² ≤ ``tol_cost`` (far inside the success tolerances), when λ exceeds 10⁸, after ``max_iter``
-iterations, or when it stagnates: the cost fell by less than a factor ``STAG_RATIO`` over the last
-``STAG_EVERY`` iterations while the start has not yet succeeded.
+position mode): (JᵀJ + λ·diag(JᵀJ) + λ·10⁻⁶·I)·Δq = Jᵀe solved by Cholesky.  Joints at a limit whose
+step points outwards are held there and the step is solved again for the others (an active set);
+the step is then projected onto the limits and kept only when it lowers ‖e‖² (λ/3), otherwise λ·6.
+A start ends when ‖e‖² ≤ ``tol_cost`` (far inside the success tolerances), when λ exceeds 10⁸,
+after ``max_iter`` iterations, or when it stagnates: it has not succeeded and its cost is still
+above ``STAG_RATIO`` times the cost of ``STAG_EVERY`` iterations before.
 
 A target tries its starts in order — the warm start ``q0`` when given, then random configurations
 uniform within the limits, drawn from a splitmix64 stream keyed by the seed, the target's values
-and the start index — so the answer does not depend on threads, on the other targets of a batch or
-on the target's place in it — and stops at the first start that succeeds.  (No "home" start: the zero configuration of many arms is singular,
-and a start there stays on the singular branch.)  A
-target beyond the chain's reach bound gets ``BEYOND_STARTS`` starts only (they look for the
-configuration nearest the target, whose residual is reported); other unreachable targets cost their ``max_starts`` starts, each cut short by the
-stagnation test.  When no start succeeds, the best one is iterated on without the stagnation test
-(up to ``max_iter`` more iterations), so that the reported residual is the local minimum's.
+and the start index (so the answer depends neither on threads, nor on the other targets of a batch,
+nor on the target's place in it) — and stops at the first start that succeeds.  There is no "home"
+start: the zero configuration of many arms is singular, and a start there stays on the singular
+branch.  A target beyond the chain's reach bound (:class:`kin.ik.compiled.ReachBound`) gets
+``BEYOND_STARTS`` starts only, which look for the configuration nearest the target; other
+unreachable targets cost their ``max_starts`` starts, each cut short by the stagnation test.  When
+no start succeeds, the best one is iterated on without the stagnation test (up to ``max_iter`` more
+iterations), so that the reported residual is that of the local minimum.
 
 Success means: position error ≤ tol_position and orientation error ≤ tol_orientation, measured at
 the returned configuration by the same FK that drove the iteration; the configuration is inside
