@@ -4,4 +4,4 @@
 from kin.ik.numeric import IKResult
 from kin.ik.solve import METHODS, local_ik, solve_ik
 
-__all__ = ["IKResult", "METHODS", "local_ik", "solve_ik"]
+__all__ = ["METHODS", "IKResult", "local_ik", "solve_ik"]

@@ -102,7 +102,8 @@ def _compile(source: str, compiler: str, path: Path, label: str) -> None:
         c_file = Path(tmp) / "ik.c"
         c_file.write_text(source)
         so = Path(tmp) / "ik.so"
-        proc = subprocess.run([compiler, *CFLAGS, str(c_file), "-o", str(so), "-lm"], capture_output=True, text=True)
+        proc = subprocess.run([compiler, *CFLAGS, str(c_file), "-o", str(so), "-lm"], capture_output=True, text=True,
+                              check=False)
         if proc.returncode != 0:
             last = proc.stderr.strip().splitlines()[-1] if proc.stderr.strip() else proc.returncode
             raise CompileError(f"{compiler} failed on the generated IK solver of {label}: {last}")
@@ -237,7 +238,7 @@ class CompiledIK:
                 "starts": i[1:2], "iterations": i[2:]}
 
 
-_cache: "weakref.WeakKeyDictionary[object, CompiledIK | None]" = weakref.WeakKeyDictionary()
+_cache: weakref.WeakKeyDictionary[object, CompiledIK | None] = weakref.WeakKeyDictionary()
 _lock = threading.Lock()
 
 

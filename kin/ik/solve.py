@@ -10,8 +10,6 @@ configuration).
 """
 from __future__ import annotations
 
-import numpy as np
-
 from kin.errors import CompileError, ConfigurationError
 from kin.ik import numeric
 from kin.ik.compiled import compiled_ik

@@ -149,13 +149,23 @@ def interleaved(solvers: dict, chain, T: np.ndarray, reachable: bool = True) -> 
 def solvers(robot) -> dict:
     """rmtkit's ``robot.ik`` and, when installed, roboticstoolbox's ``ETS.ik_LM`` at the matched and at
     its default tolerance, as ``T -> (success, q)``; plus a note when the peer is missing."""
-    out = {"rmtkit": lambda Tk: (lambda r: (r.success, r.q))(robot.ik(Tk, seed=0))}
+    def rmtkit(Tk):
+        res = robot.ik(Tk, seed=0)
+        return res.success, res.q
+
+    out = {"rmtkit": rmtkit}
     try:
         ets = rtb_robot(robot.chain).ets()
     except ImportError as e:
         return out | {"_skipped": f"roboticstoolbox-python not installed ({e}); pip install -e '.[bench]'"}
-    out["rtb_ik_LM"] = lambda Tk: (lambda s: (s.success, s.q))(ets.ik_LM(Tk, tol=RTB_TOL))
-    out["rtb_ik_LM_default_tol"] = lambda Tk: (lambda s: (s.success, s.q))(ets.ik_LM(Tk))
+    def peer(tol):
+        def solve(Tk):
+            sol = ets.ik_LM(Tk, tol=tol)
+            return sol.success, sol.q
+        return solve
+
+    out["rtb_ik_LM"] = peer(RTB_TOL)
+    out["rtb_ik_LM_default_tol"] = peer(1e-6)     # the documented default
     return out
 
 
@@ -237,8 +247,8 @@ def run(name: str, N: int, quick: bool, log=None) -> dict:
 def format_report(R: dict) -> str:
     env, b1, b2 = R["environment"], R["rmtkit_batch_1_thread"], R["rmtkit_batch_2_threads"]
     L = [f"bench_ik — {R['robot']}, {R['targets']} reachable full poses{' [quick]' if R['quick'] else ''}",
-         f"load average before / after: {env['loadavg_1min_before']:.2f} / {env['loadavg_1min_after']:.2f}"
-         f"{'  — PROVISIONAL: the machine is loaded' if env['provisional'] else ''}",
+         (f"load average before / after: {env['loadavg_1min_before']:.2f} / {env['loadavg_1min_after']:.2f}"
+          f"{'  — PROVISIONAL: the machine is loaded' if env['provisional'] else ''}"),
          "one target at a time (solvers taking turns on each target):"]
     for k, v in R["single"].items():
         L.append(f"  {k:22s} median {v['median_ms']:.4f} ms, p95 {v['p95_ms']:.4f} ms, {v['loop_solves_per_s']:9,.0f}/s;"

@@ -15,10 +15,10 @@ import kin
 from kin.ik import local_ik, solve_ik
 from kin.ik.compiled import compiled_ik
 
-from tests.chain_factory import random_q, rotvec
+from tests.chain_factory import random_q
 from tests.dh_numpy import fk_numpy
 from tests.kin.ik import test_numeric
-from tests.kin.ik.test_numeric import *  # noqa: F401,F403  (the shared checks, collected again here)
+from tests.kin.ik.test_numeric import *  # the shared checks of test_numeric.py, collected again here
 from tests.kin.ik.test_numeric import errors_numpy, robot
 
 
