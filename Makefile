@@ -24,6 +24,7 @@ test: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e ".[bench]"
 	$(BIN)/python -m studies.benchmarks.bench_kin
+	$(BIN)/python -m studies.benchmarks.bench_ik
 	$(BIN)/python -m studies.benchmarks.bench_plan
 	$(BIN)/python -m studies.benchmarks.bench_timing
 	$(BIN)/python -m studies.benchmarks.bench_design

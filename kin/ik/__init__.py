@@ -1,5 +1,7 @@
-"""Inverse kinematics: the damped least-squares (Levenberg–Marquardt) solver with joint limits and
-seeded restarts (:mod:`kin.ik.numeric`)."""
-from kin.ik.numeric import IKResult, solve_ik
+"""Inverse kinematics: :func:`solve_ik` runs the compiled Levenberg–Marquardt solver
+(:mod:`kin.ik.compiled`, C generated from the CasADi model) or, without a C compiler, the numpy one
+(:mod:`kin.ik.numeric`); :mod:`kin.ik.analytic` gives every branch of a spherical-wrist 6R arm."""
+from kin.ik.numeric import IKResult
+from kin.ik.solve import METHODS, local_ik, solve_ik
 
-__all__ = ["IKResult", "solve_ik"]
+__all__ = ["METHODS", "IKResult", "local_ik", "solve_ik"]

@@ -12,6 +12,7 @@ success = False and the residual of the best attempt.
 """
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -21,6 +22,8 @@ from kin.errors import ConfigurationError
 from kin.transforms import rotation_error
 
 MODES = ("auto", "pose", "position")
+#: largest defect of a target pose from a rigid transform (orthonormality, det, bottom row)
+RIGID_TOL = 1e-6
 
 
 class IKResult(NamedTuple):
@@ -35,6 +38,8 @@ class IKResult(NamedTuple):
 def _targets(T, n_targets_hint: str) -> tuple[np.ndarray, np.ndarray | None, bool]:
     """Targets as positions (N, 3) and rotations (N, 3, 3) or None; plus whether one was given."""
     arr = np.asarray(T, dtype=float)
+    if arr.shape == (4, 4):  # the common single pose: checked with plain floats (numpy's per-call cost dominates)
+        return _one_pose(arr)
     if arr.shape == (3,) or (arr.ndim == 2 and arr.shape[1] == 3 and arr.shape != (3, 3)):
         single = arr.ndim == 1
         P = arr.reshape(-1, 3)
@@ -48,13 +53,80 @@ def _targets(T, n_targets_hint: str) -> tuple[np.ndarray, np.ndarray | None, boo
                                  f"or a position (3,) or (N, 3) {n_targets_hint}")
     if not np.all(np.isfinite(arr)):
         raise ConfigurationError("IK target holds NaN or infinite values")
+    if R is not None and len(R):
+        A = arr.reshape(-1, 4, 4)
+        orth = np.abs(np.einsum("kji,kjl->kil", R, R) - np.eye(3)).max(axis=(1, 2))
+        det = np.abs(np.linalg.det(R) - 1.0)
+        bottom = np.abs(A[:, 3] - np.array([0.0, 0.0, 0.0, 1.0])).max(axis=1)
+        bad = np.nonzero(np.maximum(np.maximum(orth, det), bottom) > RIGID_TOL)[0]
+        if len(bad):
+            where = "" if single else f" (target {bad[0]})"
+            raise ConfigurationError(f"IK target{where} is not a rigid transform: its rotation must be orthonormal "
+                                     f"with det +1 (to {RIGID_TOL:g}) and its bottom row [0, 0, 0, 1]")
     return P, R, single
+
+
+def _one_pose(arr: np.ndarray) -> tuple[np.ndarray, np.ndarray, bool]:
+    (a, b, c, px), (d, e, f, py), (g, h, i, pz), (w0, w1, w2, w3) = arr.tolist()
+    zero = 0.0 * a + 0.0 * b + 0.0 * c + 0.0 * px + 0.0 * d + 0.0 * e + 0.0 * f + 0.0 * py \
+        + 0.0 * g + 0.0 * h + 0.0 * i + 0.0 * pz + 0.0 * w0 + 0.0 * w1 + 0.0 * w2 + 0.0 * w3
+    if zero != 0.0:                  # 0·x is NaN exactly when x is NaN or ±inf (and never overflows)
+        raise ConfigurationError("IK target holds NaN or infinite values")
+    # columns orthonormal (RᵀR = I), det R = 1, bottom row [0, 0, 0, 1]
+    defect = max(abs(a * a + d * d + g * g - 1.0), abs(b * b + e * e + h * h - 1.0), abs(c * c + f * f + i * i - 1.0),
+                 abs(a * b + d * e + g * h), abs(a * c + d * f + g * i), abs(b * c + e * f + h * i),
+                 abs(a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g) - 1.0),
+                 abs(w0), abs(w1), abs(w2), abs(w3 - 1.0))
+    if not defect <= RIGID_TOL:
+        raise ConfigurationError(f"IK target is not a rigid transform: its rotation must be orthonormal with det +1 "
+                                 f"(to {RIGID_TOL:g}) and its bottom row [0, 0, 0, 1]")
+    return arr[None, :3, 3], arr[None, :3, :3], True
+
+
+class Problem(NamedTuple):
+    """A validated IK request (see :func:`prepare`)."""
+
+    Pt: np.ndarray                 # (N, 3) target positions, m
+    Rt: np.ndarray | None          # (N, 3, 3) target rotations; None in position mode
+    single: bool                   # one target given (scalar results)
+    Q0: np.ndarray | None          # (N, n) warm starts inside the limits, or None
+    P: np.ndarray | None           # design parameters (n_p,) or (N, n_p); None: nominal
+
+
+def prepare(robot, T, q0, mode: str, params, tol_position: float, tol_orientation: float) -> Problem:
+    """Validate an IK request: target shapes and values, mode, q0, parameters, tolerances."""
+    if mode not in MODES:
+        raise ValueError(f"mode {mode!r} unknown; allowed: {', '.join(MODES)}")
+    for name, tol in (("tol_position", tol_position), ("tol_orientation", tol_orientation)):
+        if not (math.isfinite(tol) and tol > 0):
+            raise ConfigurationError(f"IK {name} = {tol} must be a positive finite number")
+    chain = robot.chain
+    n = chain.n
+    Pt, Rt, single = _targets(T, f"for {chain.name}")
+    if mode == "auto":
+        mode = "pose" if (Rt is not None and len(robot.task_rows) == 6) else "position"
+    if mode == "pose" and Rt is None:
+        raise ConfigurationError("IK mode 'pose' needs a 4×4 target, got a position")
+    if mode == "position":
+        Rt = None
+    N = len(Pt)
+    Q0 = None
+    if q0 is not None:
+        Q0, _ = chain.as_batch(q0, "q0")
+        if len(Q0) not in (1, N):
+            raise ConfigurationError(f"q0 has {len(Q0)} rows for {N} targets")
+        Q0 = np.clip(np.broadcast_to(Q0, (N, n)), chain.lower, chain.upper)
+    P = None if params is None else robot._params(params, N)
+    if P is not None and P.ndim == 2 and P.shape[0] != N:
+        raise ConfigurationError(f"parameter batch has {P.shape[0]} rows for {N} targets")
+    return Problem(Pt, Rt, single, Q0, P)
 
 
 def solve_ik(robot, T, seed: int = 0, q0=None, mode: str = "auto", restarts: int = 8, rounds: int = 12,
              max_iter: int = 150, tol_position: float = 1e-6, tol_orientation: float = 1e-6,
              params=None) -> IKResult:
-    """Inverse kinematics of ``robot`` for one target or a batch.
+    """Inverse kinematics of ``robot`` for one target or a batch, in numpy (the fallback of
+    :func:`kin.ik.solve_ik` when no C compiler works).
 
     Parameters
     ----------
@@ -71,29 +143,13 @@ def solve_ik(robot, T, seed: int = 0, q0=None, mode: str = "auto", restarts: int
     nearest the home configuration: zero clipped to the limits) is returned, otherwise the one
     with the smallest residual.
     """
-    if mode not in MODES:
-        raise ValueError(f"mode {mode!r} unknown; allowed: {', '.join(MODES)}")
     chain = robot.chain
     n = chain.n
-    Pt, Rt, single = _targets(T, f"for {chain.name}")
-    if mode == "auto":
-        mode = "pose" if (Rt is not None and len(robot.task_rows) == 6) else "position"
-    if mode == "pose" and Rt is None:
-        raise ConfigurationError("IK mode 'pose' needs a 4×4 target, got a position")
-    if mode == "position":
-        Rt = None
+    Pt, Rt, single, Q0, P = prepare(robot, T, q0, mode, params, tol_position, tol_orientation)
+    P = chain.parameter_values if P is None else P
     N = len(Pt)
     rng = np.random.default_rng(seed)
     lo, hi = chain.lower, chain.upper
-    Q0 = None
-    if q0 is not None:
-        Q0, _ = chain.as_batch(q0, "q0")
-        if len(Q0) not in (1, N):
-            raise ConfigurationError(f"q0 has {len(Q0)} rows for {N} targets")
-        Q0 = np.clip(np.broadcast_to(Q0, (N, n)), lo, hi)
-    P = chain.parameter_values if params is None else robot._params(params, N)
-    if P.ndim == 2 and P.shape[0] != N:
-        raise ConfigurationError(f"parameter batch has {P.shape[0]} rows for {N} targets")
     scale = _length_scale(chain)
     solver = _LM(robot, P, scale, tol_position, tol_orientation, max_iter)
 
@@ -195,3 +251,19 @@ def _length_scale(chain) -> float:
     tab = chain.dh_table()
     reach = np.abs(tab[:, 0]).sum() + np.abs(tab[:, 2]).sum() + np.linalg.norm(chain.tool.matrix[:3, 3])
     return float(max(0.5 * reach, 0.05))
+
+
+def local_ik(robot, T, q, mode: str = "auto", max_iter: int = 150, tol_position: float = 1e-6,
+             tol_orientation: float = 1e-6, params=None) -> IKResult:
+    """One Levenberg–Marquardt run per target from the warm start ``q`` (n,) or (N, n), no restarts
+    (numpy; see :func:`kin.ik.local_ik`)."""
+    Pt, Rt, single, Q0, P = prepare(robot, T, q, mode, params, tol_position, tol_orientation)
+    if Q0 is None:
+        raise ConfigurationError("local IK needs a warm start q")
+    N = len(Pt)
+    lm = _LM(robot, robot.chain.parameter_values if P is None else P, _length_scale(robot.chain), tol_position, tol_orientation, max_iter)
+    Q, pe, oe = lm.run(Q0, Pt, Rt, np.arange(N))
+    ok = (pe <= tol_position) & (oe <= tol_orientation)
+    if single:
+        return IKResult(bool(ok[0]), Q[0], float(pe[0]), float(oe[0]))
+    return IKResult(ok, Q, pe, oe)

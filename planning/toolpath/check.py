@@ -79,7 +79,7 @@ def validate_toolpath(robot, toolpath: ToolPath, windows: WindowSet | None = Non
     ----------
     windows : singular windows to stay out of (``planning.windows.build_windows``), or None.
     start_q : (n,) SI configuration the first waypoint is solved from — the start branch; None: the
-        IK solution nearest the home configuration.
+        IK solution of :meth:`kin.Robot.ik` (seeded by ``branch_seed``).
     branch_seed : seed of the global IK's random starts (first waypoint, fall-backs).
     sigma_min : floor on σ_min of the task Jacobian (None: reported, not judged).
     tol_position, tol_orientation : reachability tolerances (m, rad).

@@ -3,7 +3,8 @@
 
 The first waypoint is solved from ``start_q`` when given (the choice of start branch; a local
 solve, or :meth:`kin.Robot.ik` with ``q0 = start_q`` when that fails), otherwise by
-:meth:`kin.Robot.ik` — the solution nearest the home configuration.  Every next waypoint is solved
+:meth:`kin.Robot.ik` (the compiled solver of :mod:`kin.ik`, like the rare global fall-backs below;
+its seeded random starts pick the branch).  Every next waypoint is solved
 by Newton / damped-least-squares (Levenberg–Marquardt) steps from the previous solution, whose FK
 and Jacobian are already known — on a smooth path one step and one new FK+Jacobian evaluation per
 waypoint:

@@ -1,6 +1,8 @@
-"""kin.ik: FK → IK → FK round trips on every bundled robot (targets made and results checked by the
-numpy FK of tests/dh_numpy.py), position-only IK, unreachable targets with closed-form residuals,
-joint limits, determinism, continuity from q0, batch shapes and bad inputs."""
+"""kin.ik.numeric (the numpy solver, forced here by ``method="numeric"``): FK → IK → FK round trips on
+every bundled robot (targets made and results checked by the numpy FK of tests/dh_numpy.py),
+position-only IK, unreachable targets with closed-form residuals, joint limits, determinism,
+continuity from q0, batch shapes and bad inputs.  tests/kin/ik/test_solve.py runs the same checks
+through the default (compiled) solver."""
 from __future__ import annotations
 
 import math
@@ -19,6 +21,15 @@ POSITION_ONLY = {"planar_2r", "scara_rrp", "spherical_rrp"}
 TOL = 1e-6
 
 _robots: dict[str, kin.Robot] = {}
+
+
+@pytest.fixture(autouse=True, params=["numeric"])
+def method(request, monkeypatch):
+    """Every ``robot.ik`` call of this module goes to the numpy solver (the compiled one is
+    unavailable, as with ``RMTKIT_CC=none``); test_solve.py imports these tests with "compiled"."""
+    if request.param == "numeric":
+        monkeypatch.setattr("kin.ik.solve.compiled_ik", lambda robot: None)
+    return request.param
 
 
 def robot(name: str) -> kin.Robot:
