@@ -28,6 +28,7 @@ from typing import Sequence
 import numpy as np
 
 from kin.errors import ConfigurationError
+from kin.ik.analytic import NoClosedFormError, analytic_ik
 
 from planning.certify import FreeCells, PathProof, Separation, certify_path, free_cells
 from planning.errors import PlanningError
@@ -151,10 +152,15 @@ def wrist_twins(robot, q: np.ndarray, pose: np.ndarray) -> list[np.ndarray]:
 
 def _goal_from_pose(robot, pose: np.ndarray, start: np.ndarray, checker: JointSpaceChecker,
                     cells: FreeCells, seed: int) -> tuple[np.ndarray, dict]:
-    """The goal configuration of a tool pose: among the IK solutions from several starts and their
-    wrist twins, the valid ones in the start's free cell, nearest the start first (else the nearest
+    """The goal configuration of a tool pose: among its IK branches (every branch of the closed form
+    where the chain has one, :func:`kin.ik.analytic.analytic_ik`), the solutions of the numeric IK
+    from several starts and their wrist twins, the valid ones in the start's free cell, nearest the start first (else the nearest
     valid one; the caller then reports the separation).  Returns it and a description."""
     cands: list[np.ndarray] = []
+    try:                                 # every branch in closed form where the chain has one
+        cands.extend(analytic_ik(robot, pose, q_ref=start))
+    except NoClosedFormError:
+        pass
     for k in range(8):
         res = robot.ik(pose, seed=seed + k, q0=start if k == 0 else None)
         if res.success:
