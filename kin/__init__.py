@@ -5,6 +5,13 @@
 >>> robot.fk([0, 0, 0, 0, 0, 0])[:3, 3]        # doctest: +SKIP
 array([1.02 , 0.   , 1.365])
 """
+import os
+
+# OpenMP threads (the batch IK) sleep while idle instead of spinning: several rmtkit processes on a
+# shared machine (sweep workers, Dask) would otherwise slow each other down by an order of magnitude.
+# It must be set before the OpenMP runtime loads; kin is imported before any compiled library.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
 from kin.chain import Chain, Joint, Parameter, Placement
 from kin.errors import (ChainError, CompileError, ConfigurationError, JointLimitError, ParameterError, RmtError,
                      RobotFileError, UnknownRobotError)
