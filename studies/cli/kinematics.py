@@ -10,7 +10,6 @@ import kin
 from kin.transforms import make_transform, rpy_to_matrix
 
 from studies.cli.common import EXIT_FAIL, EXIT_OK, dump, joint_values, numbers, seed
-from studies.study import kinematics as ks
 from studies.units import joint_units, pose_to_file, unit_names
 
 
@@ -46,6 +45,7 @@ def cmd_robots(args, load_robot) -> int:
 
 
 def cmd_show(args, load_robot) -> int:
+    from studies.study import kinematics as ks
     robot = load_robot(args.robot)
     c = robot.chain
     dh = ks.dh_rows(c)
@@ -93,6 +93,7 @@ def cmd_fk(args, load_robot) -> int:
 
 
 def cmd_jacobian(args, load_robot) -> int:
+    from studies.study import kinematics as ks
     robot = load_robot(args.robot)
     q = joint_values(robot, args.q)
     _warn_limits(robot, q)

@@ -5,9 +5,6 @@ from __future__ import annotations
 import math
 
 import kin
-from kin.singular import analyse_singularities
-from planning.windows import WindowSet, build_windows
-
 from studies.cli.common import MAX_SIGMA, bounded, dump, factor_margins, output_file, seed
 
 #: the most joint-space samples ``rmt workspace`` takes
@@ -41,6 +38,7 @@ def singularities_json(robot: kin.Robot, analysis) -> dict:
 
 
 def cmd_singularities(args, load_robot) -> int:
+    from kin.singular import analyse_singularities
     robot = load_robot(args.robot)
     analysis = analyse_singularities(robot, seed=args.seed)
     out = singularities_json(robot, analysis)
@@ -69,7 +67,7 @@ def cmd_singularities(args, load_robot) -> int:
     return 0
 
 
-def _windows_text(robot: kin.Robot, ws: WindowSet) -> str:
+def _windows_text(robot: kin.Robot, ws) -> str:
     c = robot.chain
     lines = [f"{c.name}: {len(ws.windows)} window{'s' if len(ws.windows) != 1 else ''}"]
     for w in ws.windows:
@@ -84,6 +82,8 @@ def _windows_text(robot: kin.Robot, ws: WindowSet) -> str:
 
 
 def cmd_windows(args, load_robot) -> int:
+    from kin.singular import analyse_singularities
+    from planning.windows import build_windows
     output_file(args.out)
     robot = load_robot(args.robot)
     c = robot.chain
