@@ -9,7 +9,7 @@ import numpy as np
 import kin
 from kin.transforms import make_transform, rpy_to_matrix
 
-from studies.cli.common import EXIT_FAIL, EXIT_OK, dump, joint_values, numbers, seed
+from studies.cli.common import EXIT_FAIL, EXIT_OK, dump, joint_values, numbers, require_task_rows, seed
 from studies.units import joint_units, pose_to_file, unit_names
 
 
@@ -94,7 +94,7 @@ def cmd_fk(args, load_robot) -> int:
 
 def cmd_jacobian(args, load_robot) -> int:
     from studies.study import kinematics as ks
-    robot = load_robot(args.robot)
+    robot = require_task_rows(load_robot(args.robot))
     q = joint_values(robot, args.q)
     _warn_limits(robot, q)
     r = ks.evaluate_configuration(robot, robot.chain.from_si(q))

@@ -12,8 +12,8 @@ import numpy as np
 import kin
 from kin.output import write_output
 
-from studies.cli.common import (MAX_SIGMA, CliInputError, MAX_TIME_LIMIT, bounded, dump, joint_values, output_file, seed,
-                                windows_from_args)
+from studies.cli.common import (MAX_SIGMA, MAX_TIME_LIMIT, CliInputError, bounded, dump, joint_values, output_file,
+                                require_task_rows, seed, windows_from_args)
 from studies.units import joint_units
 
 
@@ -72,7 +72,7 @@ def read_path_csv(robot, path: str | Path) -> np.ndarray:
 def cmd_plan(args, load_robot) -> int:
     from planning.ompl.planner import plan
     output_file(args.out)
-    robot = load_robot(args.robot)
+    robot = require_task_rows(load_robot(args.robot))
     start = joint_values(robot, args.start, "--start")
     goal = joint_values(robot, args.goal, "--goal")
     ws = windows_from_args(robot, args.margin, args.sigma_min, args.seed)
@@ -107,7 +107,7 @@ def cmd_plan(args, load_robot) -> int:
 def cmd_check_path(args, load_robot) -> int:
     from planning.validate import (DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, STEP_ANGLE_RANGE, STEP_LENGTH_RANGE,
                                    check_path)
-    robot = load_robot(args.robot)
+    robot = require_task_rows(load_robot(args.robot))
     P = read_path_csv(robot, args.path)
     ws = windows_from_args(robot, args.margin, args.sigma_min, args.seed)
     c = robot.chain

@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 
 import kin
-from studies.cli.common import MAX_SIGMA, bounded, jsonable, numbers, output_file, seed, windows_from_args
+from studies.cli.common import (MAX_SIGMA, bounded, jsonable, numbers, output_file, require_task_rows, seed,
+                                windows_from_args)
 from studies.units import joint_units, unit_names
 
 #: bundled example tool paths: ``rmt validate-toolpath ROBOT NAME`` finds ``NAME.toml`` or ``NAME.csv`` here
@@ -171,7 +172,7 @@ def cmd_validate_toolpath(args, load_robot) -> int:
     from planning.toolpath import load_toolpath
     from planning.toolpath.check import validate_toolpath
     output_file(args.plot)
-    robot = load_robot(args.robot)
+    robot = require_task_rows(load_robot(args.robot))
     c = robot.chain
     tp = load_toolpath(toolpath_file(args.toolpath), robot)
     ws = _windows(robot, args)
