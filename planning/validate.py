@@ -87,7 +87,9 @@ def _counts(P: np.ndarray, revolute: np.ndarray, step_angle: float, step_length:
         d = np.abs(np.diff(P, axis=0)) / steps
     counts = np.maximum(np.ceil(d.max(axis=1, initial=0.0)), 1)
     total = float(counts.sum()) + 1
-    if not total <= MAX_CHECK_STATES:          # also catches inf from huge joint values
+    if not math.isfinite(total):
+        raise ConfigurationError("the joint values are too large to check (a step between rows overflows)")
+    if total > MAX_CHECK_STATES:
         raise ConfigurationError(f"the dense check would evaluate {total:.3g} states; at most "
                                  f"{MAX_CHECK_STATES:.3g} (use a larger check step)")
     return counts.astype(np.int64)

@@ -7,6 +7,7 @@ import sys
 import numpy as np
 
 import kin
+from kin.robotfile import MAX_LENGTH
 from kin.transforms import make_transform, rpy_to_matrix
 
 from studies.cli.common import EXIT_FAIL, EXIT_OK, dump, joint_values, numbers, require_task_rows, seed
@@ -117,6 +118,8 @@ def cmd_ik(args, load_robot) -> int:
     robot = load_robot(args.robot)
     c = robot.chain
     xyz = np.array(numbers(args.xyz, "--xyz")) * c.length_scale
+    if np.abs(xyz).max() > MAX_LENGTH:
+        raise kin.RmtError(f"--xyz: coordinates must lie within ±{MAX_LENGTH / c.length_scale:g} {c.length_unit} (10 km)")
     if args.rpy is not None:
         rpy = np.array(numbers(args.rpy, "--rpy")) * c.angle_scale
         target = make_transform(rpy_to_matrix(rpy), xyz)

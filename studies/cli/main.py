@@ -74,6 +74,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return args.func(args)
     except UsageError as e:
         print(f"rmt: error: {e}", file=sys.stderr)
+    except SystemExit as e:         # argparse after --help
+        return e.code if isinstance(e.code, int) else EXIT_OK
     except BrokenPipeError:
         return EXIT_OK
     except KeyboardInterrupt:
