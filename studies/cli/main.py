@@ -4,7 +4,7 @@ Every command takes ROBOT as a bundled name (``rmt robots``) or a path to a robo
 prints values in the robot file's units, and with ``--json`` prints one JSON object.  Bad input
 exits with code 2 and one line on stderr; ``rmt ik`` exits 1 when it finds no solution.
 
-Start-up is light: the command modules import their heavy dependencies (CasADi, OMPL, OSQP, sympy,
+Start-up is light: ``kin`` loads ``Robot`` (CasADi) on first use, and the command modules import their heavy dependencies (CasADi, OMPL, OSQP, sympy,
 matplotlib, the design layer) inside their command functions, so ``rmt --help`` and ``rmt fk``
 load only what they use.  A new command group is one module with ``add_commands(add)``, listed in
 :data:`GROUPS`.
@@ -15,6 +15,8 @@ import argparse
 import re
 import sys
 from typing import Sequence
+
+import kin
 
 from studies.cli import follow, kinematics, plan, singular, study, toolpath
 from studies.cli.common import EXIT_OK, EXIT_USAGE
@@ -51,19 +53,8 @@ def build_parser() -> argparse.ArgumentParser:
         return sp
 
     for group in GROUPS:
-        group.add_commands(lambda name, func, text: add(name, lambda args, f=func: f(args, _load_robot), text))
+        group.add_commands(lambda name, func, text: add(name, lambda args, f=func: f(args, kin.load_robot), text))
     return p
-
-
-def _load_robot(name: str):
-    import kin
-    return kin.load_robot(name)
-
-
-def _is_rmt_error(e: BaseException) -> bool:
-    """An rmtkit error — kin is imported by then whenever one can have been raised."""
-    errors = sys.modules.get("kin.errors")
-    return errors is not None and isinstance(e, errors.RmtError)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -72,7 +63,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser = build_parser()
         args = parser.parse_args(argv)
         return args.func(args)
-    except UsageError as e:
+    except (UsageError, kin.RmtError) as e:
         print(f"rmt: error: {e}", file=sys.stderr)
     except SystemExit as e:         # argparse after --help
         return e.code if isinstance(e.code, int) else EXIT_OK
@@ -81,10 +72,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("rmt: interrupted", file=sys.stderr)
         return 130
-    except Exception as e:
-        if not _is_rmt_error(e):
-            raise
-        print(f"rmt: error: {e}", file=sys.stderr)
     return EXIT_USAGE
 
 
