@@ -17,6 +17,10 @@ from studies.cli.common import (MAX_SIGMA, MAX_TIME_LIMIT, CliInputError, bounde
 from studies.units import joint_units
 
 
+#: the largest joint-path file read (about a million rows of six joints)
+MAX_PATH_BYTES = 100_000_000
+
+
 class PathFileError(kin.RmtError):
     """A joint-path CSV file is missing or invalid."""
 
@@ -44,6 +48,9 @@ def read_path_csv(robot, path: str | Path) -> np.ndarray:
     """A joint path CSV (one configuration per row, robot file units; optional header) → (M, n) SI."""
     path = Path(path)
     try:
+        if path.is_file() and path.stat().st_size > MAX_PATH_BYTES:
+            raise PathFileError(f"{path}: {path.stat().st_size / 1e6:.0f} MB; a joint-path file may hold at most "
+                                f"{MAX_PATH_BYTES / 1e6:.0f} MB")
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
         raise PathFileError(f"{path}: no such joint-path file") from None

@@ -133,3 +133,10 @@ def test_degenerate_robots_get_a_clear_error(capsys, tmp_path, a, a2, match, com
     p = tmp_path / "r.toml"
     p.write_text(DEGENERATE.format(name="deg", a=a, a2=a2))
     refused(capsys, *[str(p) if c == "R" else c for c in command], match=match)
+
+
+def test_joint_path_file_size_is_bounded(capsys, tmp_path, monkeypatch):
+    import studies.cli.plan as cp
+    monkeypatch.setattr(cp, "MAX_PATH_BYTES", 20)
+    (tmp_path / "p.csv").write_text(SCARA_PATH)                # 38 bytes
+    refused(capsys, "check-path", "scara_rrp", tmp_path / "p.csv", match="a joint-path file may hold at most 0 MB")
