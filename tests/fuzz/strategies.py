@@ -2,8 +2,6 @@
 values."""
 from __future__ import annotations
 
-import math
-
 from hypothesis import strategies as st
 
 #: texts that have broken parsers before: non-finite, huge, tiny, signs, junk
@@ -36,6 +34,3 @@ def toml_vector(size: int, lo: float = -3.0, hi: float = 3.0) -> st.SearchStrate
     return mostly(st.just(size), st.sampled_from([max(0, size - 1), size + 1]), 20).flatmap(
         lambda k: st.lists(toml_number(lo, hi), min_size=k, max_size=k).map(lambda xs: "[" + ", ".join(xs) + "]"))
 
-
-def finite(x: float) -> bool:
-    return math.isfinite(x)
