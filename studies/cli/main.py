@@ -47,7 +47,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub.required = True
 
     def add(name, func, help_):
-        sp = sub.add_parser(name, help=help_, description=help_)
+        # argparse %-formats the help shown in `rmt --help`: a literal "%" (as in "reach %") must be doubled
+        sp = sub.add_parser(name, help=help_.replace("%", "%%"), description=help_)
         sp.set_defaults(func=func)
         sp.add_argument("--json", action="store_true", help="print one JSON object")
         return sp

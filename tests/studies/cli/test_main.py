@@ -72,3 +72,18 @@ def test_usage_errors_are_one_line(capsys, argv):
     assert main(argv) == 2
     out, err = capsys.readouterr()
     assert out == "" and err.count("\n") == 1 and err.startswith("rmt: error:")
+
+
+def test_a_percent_sign_in_a_command_help_does_not_break_help(capsys, monkeypatch):
+    """`rmt --help` %-formats every command's help: "reach %" used to raise ValueError (a traceback)."""
+    import types
+    cm = sys.modules["studies.cli.main"]           # (the package's `main` attribute is the function)
+
+    def add_commands(add):
+        add("percent", lambda args, load_robot: 0, "coverage: reach %, covered %")
+    monkeypatch.setattr(cm, "GROUPS", cm.GROUPS + (types.SimpleNamespace(add_commands=add_commands),))
+    assert main(["--help"]) == 0
+    out = capsys.readouterr().out
+    assert "coverage: reach %, covered %" in out
+    assert main(["percent", "--help"]) == 0
+    assert "coverage: reach %, covered %" in capsys.readouterr().out
