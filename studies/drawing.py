@@ -160,14 +160,14 @@ def solver_output_silenced():
         yield
     finally:
         try:
-            libc_flush()
+            _libc_flush()
         finally:
             os.dup2(saved, 1)
             os.close(saved)
             os.close(devnull)
 
 
-def libc_flush() -> None:
+def _libc_flush() -> None:
     """Flush C's stdout buffer (what printf wrote but has not passed to the descriptor yet)."""
     try:
         ctypes.CDLL(None).fflush(None)
