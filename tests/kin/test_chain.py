@@ -294,4 +294,3 @@ class TestConventionConversion:
             p = kin.Robot(m).fk([t1, t2])[:3, 3]
             np.testing.assert_allclose(p, [math.cos(t1) + 0.8 * math.cos(t1 + t2),
                                            math.sin(t1) + 0.8 * math.sin(t1 + t2), 0.0], atol=1e-14)
-
