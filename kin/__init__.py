@@ -4,6 +4,9 @@
 >>> robot = kin.load_robot("fanuc_m16ib20")
 >>> robot.fk([0, 0, 0, 0, 0, 0])[:3, 3]        # doctest: +SKIP
 array([1.02 , 0.   , 1.365])
+
+``Robot``, ``Measures`` and ``load_robot`` (which need CasADi) are imported on first use, so that
+``import kin`` — and a command line that only parses its arguments — stays light.
 """
 import os
 
@@ -15,10 +18,22 @@ os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 from kin.chain import Chain, Joint, Parameter, Placement
 from kin.errors import (ChainError, CompileError, ConfigurationError, JointLimitError, ParameterError, RmtError,
                      RobotFileError, UnknownRobotError)
-from kin.robot import Measures, Robot, load_robot
 from kin.robotfile import bundled_robots, dumps_robot, load_chain, loads_robot, save_robot
+
+_LAZY = {"Robot", "Measures", "load_robot"}
 
 __all__ = ["Chain", "Joint", "Parameter", "Placement", "Robot", "Measures", "load_robot", "load_chain",
            "loads_robot", "dumps_robot", "save_robot", "bundled_robots", "RmtError", "RobotFileError",
            "UnknownRobotError", "ChainError", "ConfigurationError", "JointLimitError", "ParameterError",
            "CompileError"]
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        from kin import robot
+        return getattr(robot, name)
+    raise AttributeError(f"module 'kin' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | _LAZY)

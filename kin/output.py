@@ -73,6 +73,8 @@ def _check_parents(path: Path) -> None:
 def check_output(path: str | os.PathLike) -> Path:
     """Raise :class:`OutputError` unless ``path`` may be written by :func:`write_output`: it must not
     exist or be a regular file, and its nearest existing ancestor must be a directory."""
+    if os.fspath(path).endswith(("/", os.sep)):
+        raise OutputError(f"{os.fspath(path)}: names a directory; give a file name")
     path = Path(path)
     if not path.name or path.name in (".", ".."):
         raise OutputError(f"{path}: is a directory; give a file name")

@@ -30,6 +30,10 @@ PARAMETER_FIELDS = ("value", "bounds")
 #: A revolute limit beyond this (rad) is almost surely a degree value in a file that says "rad".
 MAX_REVOLUTE_LIMIT = 8 * math.pi
 RIGID_TOL = 1e-6
+#: lengths (m): at most 10 km, and a non-zero length at least 1 nm (smaller is zero in disguise and
+#: makes every dexterity measure a rounding error)
+MAX_LENGTH = 1e4
+MIN_LENGTH = 1e-9
 
 
 # ---- bundled library ---------------------------------------------------------------------------
@@ -98,6 +102,21 @@ class _Reader:
             raise self.fail(field, f"must be a list of {size} numbers, got {v!r}")
         return [self.number(x, f"{field}[{i}]") for i, x in enumerate(v)]
 
+    def length(self, v: Any, field: str, scale: float) -> float:
+        """A length in file units → m, within ±:data:`MAX_LENGTH` and 0 or at least :data:`MIN_LENGTH`."""
+        x = self.number(v, field) * scale
+        if abs(x) > MAX_LENGTH or 0 < abs(x) < MIN_LENGTH:
+            raise self.fail(field, f"{v} is outside the allowed range: 0 or {MIN_LENGTH / scale:g} to "
+                            f"{MAX_LENGTH / scale:g} in magnitude (file length unit; 1 nm to 10 km)")
+        return x
+
+    def angle(self, v: Any, field: str, scale: float) -> float:
+        """An angle in file units → rad, within ±:data:`MAX_REVOLUTE_LIMIT`."""
+        x = self.number(v, field) * scale
+        if abs(x) > MAX_REVOLUTE_LIMIT:
+            raise self.fail(field, f"{v} exceeds ±{MAX_REVOLUTE_LIMIT / scale:g} (±8π rad, four turns)")
+        return x
+
     def positive(self, v: Any, field: str) -> float:
         x = self.number(v, field)
         if x <= 0:
@@ -157,8 +176,11 @@ def loads_robot(text: str, path: str | None = None) -> Chain:
                 raise r.fail(f"{fld}.{k}", "missing required field")
         kind = kinds.get(pname, "length")
         s = ls if kind == "length" else as_
+        check = r.length if kind == "length" else r.angle
         val = r.number(pr["value"], f"{fld}.value")
         lo, hi = r.vector(pr["bounds"], f"{fld}.bounds", 2)
+        for x, sub_field in ((val, "value"), (lo, "bounds[0]"), (hi, "bounds[1]")):
+            check(x, f"{fld}.{sub_field}", s)
         if not lo <= hi:
             raise r.fail(f"{fld}.bounds", f"[{lo}, {hi}] is reversed; write [lower, upper]")
         if not lo <= val <= hi:
@@ -176,13 +198,17 @@ def loads_robot(text: str, path: str | None = None) -> Chain:
         dh = {}
         for f in DH_FIELDS:
             v = jr.get(f, 0.0)
-            dh[f] = v if isinstance(v, str) else r.number(v, f"{fld}.{f}") * (ls if f in LENGTH_FIELDS else as_)
+            dh[f] = v if isinstance(v, str) else (r.length(v, f"{fld}.{f}", ls) if f in LENGTH_FIELDS
+                                                  else r.angle(v, f"{fld}.{f}", as_))
         var_scale = as_ if jtype == "revolute" else ls
         lo, hi = r.vector(jr["limits"], f"{fld}.limits", 2)
         if lo == hi:
             raise r.fail(f"{fld}.limits", f"[{lo}, {hi}] is empty; lower must be below upper")
         if lo > hi:
             raise r.fail(f"{fld}.limits", f"[{lo}, {hi}] is reversed; write [lower, upper]")
+        if jtype == "prismatic":
+            r.length(lo, f"{fld}.limits[0]", ls)
+            r.length(hi, f"{fld}.limits[1]", ls)
         if jtype == "revolute" and max(abs(lo), abs(hi)) * as_ > MAX_REVOLUTE_LIMIT:
             hint = " (a degree value in a file whose angle_unit is rad?)" if au == "rad" else ""
             raise r.fail(f"{fld}.limits", f"[{lo}, {hi}] {au} exceeds ±8π rad, four turns{hint}")
@@ -225,6 +251,8 @@ def _placement(r: _Reader, raw: Any, fld: str, ls: float, as_: float) -> Placeme
             raise r.fail(f"{fld}.matrix", "must be 4 rows of 4 numbers")
         rows = [r.vector(row, f"{fld}.matrix[{i}]", 4) for i, row in enumerate(m)]
         T = np.array(rows)
+        for i in range(3):
+            r.length(T[i, 3], f"{fld}.matrix[{i}][3]", ls)
         defect = rigidity_defect(T)
         if defect > RIGID_TOL:
             raise r.fail(f"{fld}.matrix", f"is not a rigid transform (rotation not orthonormal with det +1, or "
@@ -233,7 +261,8 @@ def _placement(r: _Reader, raw: Any, fld: str, ls: float, as_: float) -> Placeme
         return Placement.from_matrix(T)
     xyz = r.vector(raw.get("xyz", [0.0, 0.0, 0.0]), f"{fld}.xyz", 3)
     rpy = r.vector(raw.get("rpy", [0.0, 0.0, 0.0]), f"{fld}.rpy", 3)
-    return Placement(xyz=tuple(x * ls for x in xyz), rpy=tuple(x * as_ for x in rpy))  # type: ignore[arg-type]
+    return Placement(xyz=tuple(r.length(x, f"{fld}.xyz[{i}]", ls) for i, x in enumerate(xyz)),  # type: ignore[arg-type]
+                     rpy=tuple(r.angle(x, f"{fld}.rpy[{i}]", as_) for i, x in enumerate(rpy)))
 
 
 # ---- saving ------------------------------------------------------------------------------------

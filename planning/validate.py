@@ -91,10 +91,19 @@ def densify(path: np.ndarray, revolute: np.ndarray, step_angle: float = DEFAULT_
 
 
 def _counts(P: np.ndarray, revolute: np.ndarray, step_angle: float, step_length: float) -> np.ndarray:
-    """Sub-steps per segment (M − 1,), int64: no joint moves more than its step between states."""
+    """Sub-steps per segment (M − 1,), int64: no joint moves more than its step between states.
+    Raises :class:`ConfigurationError` when they exceed :data:`MAX_CHECK_STATES` in all."""
     steps = np.where(revolute, step_angle, step_length)
-    d = np.abs(np.diff(P, axis=0)) / steps
-    return np.maximum(np.ceil(d.max(axis=1, initial=0.0)), 1).astype(np.int64)
+    with np.errstate(over="ignore", invalid="ignore"):          # huge values: inf, refused below
+        d = np.abs(np.diff(P, axis=0)) / steps
+    counts = np.maximum(np.ceil(d.max(axis=1, initial=0.0)), 1)
+    total = float(counts.sum()) + 1
+    if not math.isfinite(total):
+        raise ConfigurationError("the joint values are too large to check (a step between rows overflows)")
+    if total > MAX_CHECK_STATES:
+        raise ConfigurationError(f"the dense check would evaluate {total:.3g} states; at most "
+                                 f"{MAX_CHECK_STATES:.3g} (use a larger check step)")
+    return counts.astype(np.int64)
 
 
 def dense_chunks(path: np.ndarray, counts: np.ndarray, chunk: int):
@@ -149,7 +158,8 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
         i = int(np.argmax(bad))
         return PathCheck(False, Violation(i, "nonfinite", f"row {i} holds NaN or infinite values"),
                          math.nan, -1, math.nan, 0)
-    steps = np.abs(np.diff(P, axis=0)) if len(P) > 1 else np.zeros((0, chain.n))
+    with np.errstate(over="ignore", invalid="ignore"):
+        steps = np.abs(np.diff(P, axis=0)) if len(P) > 1 else np.zeros((0, chain.n))
     max_step_seen = float(steps.max()) if steps.size else 0.0
     if max_step is not None and steps.size and max_step_seen > max_step:
         i, j = np.unravel_index(np.argmax(steps > max_step), steps.shape)
@@ -157,9 +167,6 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
                                              f"allowed {max_step:.6g}"))
     counts = _counts(P, rev, step_angle, step_length) if len(P) > 1 else np.zeros(0, np.int64)
     total = int(counts.sum()) + 1
-    if total > MAX_CHECK_STATES:
-        raise ConfigurationError(f"the dense check would evaluate {total:.3g} states; at most {MAX_CHECK_STATES:.3g} "
-                                 "(use a larger check step)")
     lo, hi = chain.lower - limit_tol, chain.upper + limit_tol
     found: dict[str, Violation] = {}
     sig_min, sig_seg = math.inf, -1

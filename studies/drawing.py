@@ -32,9 +32,13 @@ What the study finds (and reports as numbers):
 """
 from __future__ import annotations
 
+import ctypes
 import dataclasses
 import math
+import os
+import sys
 from collections.abc import Sequence
+from contextlib import contextmanager
 
 import numpy as np
 
@@ -137,6 +141,38 @@ def _start_analysis(robot: kin.Robot, q0: np.ndarray) -> dict:
             "lost_rotation_about_pen_axis": float(abs(u[3:] @ z_tool)),
             "lost_rotation_in_tool_frame": (T[:3, :3].T @ u[3:]).tolist(),
             "self_motion": (Vt[-1] * np.sign(Vt[-1][np.argmax(np.abs(Vt[-1]))])).tolist()}
+
+
+@contextmanager
+def solver_output_silenced():
+    """Route file descriptor 1 to /dev/null while solvers run: OSQP's C library prints its own errors
+    with printf, and they must never reach the command's standard output (its answer).  Nothing in
+    the computation prints on purpose (only ``studies`` prints, after it)."""
+    sys.stdout.flush()
+    try:
+        saved = os.dup(1)
+        devnull = os.open(os.devnull, os.O_WRONLY)
+    except OSError:
+        yield
+        return
+    try:
+        os.dup2(devnull, 1)
+        yield
+    finally:
+        try:
+            _libc_flush()
+        finally:
+            os.dup2(saved, 1)
+            os.close(saved)
+            os.close(devnull)
+
+
+def _libc_flush() -> None:
+    """Flush C's stdout buffer (what printf wrote but has not passed to the descriptor yet)."""
+    try:
+        ctypes.CDLL(None).fflush(None)
+    except (OSError, AttributeError):
+        pass
 
 
 def run_drawing_study(robot: kin.Robot | None = None, windows: WindowSet | None = None,

@@ -49,6 +49,13 @@ PLANNERS = {
     "lbkpiece": "LBKPIECE1", "lbkpiece1": "LBKPIECE1", "aorrtc": "AORRTC",
 }
 OBJECTIVES = ("none", "length", "singularity")
+#: planners whose solve() searches the roadmap in a second C++ thread: a Python objective there
+#: waits for the GIL that the planning thread holds, and solve() never returns (OMPL's PRM family)
+THREADED_SEARCH = ("PRM", "PRMstar")
+#: weight of the singularity state cost 1/σ_min beside the path length
+SINGULARITY_SCALE = 0.01
+#: the most sub-states at which the roadmap search evaluates σ_min (about 0.05 s unloaded)
+MAX_COST_STATES = 50_000
 
 
 def planner_class(name: str):
@@ -116,6 +123,59 @@ class _MotionValidator(ob.MotionValidator):
         a = [s1[i] for i in range(n)]
         b = [s2[i] for i in range(n)]
         return self.checker.motion_valid(a, b)
+
+
+def singularity_cost(robot, path: np.ndarray, step: float, scale: float = SINGULARITY_SCALE) -> float:
+    """The ``singularity`` objective of a joint path (M, n), SI: its length plus ∫ scale/σ_min ds, the
+    integral by the trapezoid rule over sub-states at most ``step`` apart (as OMPL's
+    StateCostIntegralObjective with interpolation)."""
+    return float(_edge_costs(robot, path[:-1], path[1:], step, scale).sum())
+
+
+def _edge_costs(robot, A: np.ndarray, B: np.ndarray, step: float, scale: float) -> np.ndarray:
+    """Length + ∫ scale/σ_min ds of every straight motion A[k] → B[k] (K, n) → (K,); the sub-state
+    spacing is ``step``, widened when the motions would need more than :data:`MAX_COST_STATES`."""
+    length = np.linalg.norm(B - A, axis=1)
+    step = max(step, float(length.sum()) / MAX_COST_STATES)    # a bounded number of σ_min evaluations
+    k = np.maximum(np.ceil(length / step), 1).astype(int)
+    seg = np.repeat(np.arange(len(A)), k + 1)
+    first = np.concatenate([[0], np.cumsum(k + 1)[:-1]])
+    t = (np.arange(len(seg)) - first[seg]) / k[seg]
+    Q = A[seg] + t[:, None] * (B[seg] - A[seg])
+    c = scale / np.maximum(robot.sigma_min(Q), 1e-9) if len(Q) else np.zeros(0)
+    # trapezoid per edge: Σ over its k sub-segments of (c_i + c_{i+1}) / 2 · length / k
+    mid = 0.5 * (c[:-1] + c[1:]) if len(c) else np.zeros(0)
+    inner = np.ones(len(mid), bool)
+    inner[first[1:] - 1] = False                       # pairs that straddle two edges
+    sums = np.bincount(seg[:-1][inner], weights=mid[inner], minlength=len(A)) if len(A) else np.zeros(0)
+    return length + sums * length / k
+
+
+def _roadmap_search(robot, pdef, planner, n: int, step: float) -> np.ndarray | None:
+    """The path of least ``singularity`` cost through a PRM roadmap (start and goal included), or
+    None when they are not connected.  Edges of a PRM roadmap are valid motions (checked when added)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import dijkstra
+
+    pd = ob.PlannerData(planner.getSpaceInformation())
+    planner.getPlannerData(pd)
+    nv = pd.numVertices()
+    if nv == 0 or pd.numStartVertices() == 0 or pd.numGoalVertices() == 0:
+        return None
+    X = np.array([[pd.getVertex(i).getState()[j] for j in range(n)] for i in range(nv)])
+    edges = np.array([(i, j) for i in range(nv) for j in pd.getEdges(i) if i < j], dtype=int).reshape(-1, 2)
+    if len(edges) == 0:
+        return None
+    w = _edge_costs(robot, X[edges[:, 0]], X[edges[:, 1]], step, SINGULARITY_SCALE)
+    G = coo_matrix((w, (edges[:, 0], edges[:, 1])), shape=(nv, nv)).tocsr()
+    start, goal = pd.getStartIndex(0), pd.getGoalIndex(0)
+    dist, pred = dijkstra(G, directed=False, indices=start, return_predecessors=True)
+    if not np.isfinite(dist[goal]):
+        return None
+    order = [goal]
+    while order[-1] != start:
+        order.append(int(pred[order[-1]]))
+    return X[order[::-1]]
 
 
 class _SingularityCost(ob.StateCostIntegralObjective):
@@ -299,11 +359,19 @@ def _solve(robot, cls, checker: JointSpaceChecker, start_q, goal_q, time_limit, 
     pdef = ob.ProblemDefinition(si)
     pdef.setStartAndGoalStates(s0, s1)
     keep = [space, si, mv, pdef, s0, s1]
-    if objective != "none":
+    # OMPL's PRM family searches its roadmap in a second thread; a Python objective there deadlocks
+    # (it waits for the GIL this thread holds while joining it).  Those planners grow their roadmap
+    # under the (C++) length objective; the singularity objective then picks the path on the roadmap.
+    roadmap_objective = objective == "singularity" and cls.__name__ in THREADED_SEARCH
+    if roadmap_objective:
+        length = ob.PathLengthOptimizationObjective(si)
+        pdef.setOptimizationObjective(length)
+        keep.append(length)
+    elif objective != "none":
         length = ob.PathLengthOptimizationObjective(si)
         if objective == "singularity":
             multi = ob.MultiOptimizationObjective(si)
-            sing = _SingularityCost(si, checker, scale=0.01)
+            sing = _SingularityCost(si, checker, scale=SINGULARITY_SCALE)
             multi.addObjective(length, 1.0)
             multi.addObjective(sing, 1.0)
             keep += [length, sing]
@@ -315,12 +383,25 @@ def _solve(robot, cls, checker: JointSpaceChecker, start_q, goal_q, time_limit, 
     pl = cls(si)
     pl.setProblemDefinition(pdef)
     pl.setup()
-    status = pl.solve(float(time_limit))
+    # the roadmap search is part of the budget: the roadmap grows for 70 % of it
+    status = pl.solve(float(time_limit) * (0.7 if roadmap_objective else 1.0))
     text = str(status)
     if not bool(status) or not pdef.hasExactSolution():
         return None, None, f"no exact solution ({text})"
     path = pdef.getSolutionPath()
     raw = np.array([[path.getState(k)[i] for i in range(n)] for k in range(path.getStateCount())])
+    if roadmap_objective:
+        best = _roadmap_search(robot, pdef, pl, n, space.getLongestValidSegmentLength())
+        if best is not None:
+            raw = best
+            text += "; singularity objective minimised on the roadmap"
+            path = og.PathGeometric(si)
+            for row in raw:
+                st = space.allocState()
+                for i in range(n):
+                    st[i] = float(row[i])
+                path.append(st)
+                keep.append(st)
     out = raw
     if simplify:
         og.PathSimplifier(si).simplifyMax(path)

@@ -33,6 +33,8 @@ from planning.toolpath.geometry import (
     times_from_feed,
 )
 from planning.toolpath.model import (
+    FEED_RANGE,
+    MAX_COORDINATE,
     MAX_WAYPOINTS,
     ToolPath,
     ToolPathError,
@@ -133,6 +135,13 @@ def parse_toolpath_csv(text: str, length_scale: float, angle_scale: float, src: 
                     raise ToolPathError(f"{x!r} is not a finite number (NaN and infinity are not allowed)", src,
                                         f"line {lines[i]}, column {c!r}")
         cols[c] = v
+    for group, scale, top, what in ((("x", "y", "z"), length_scale, MAX_COORDINATE, "file length unit; 10 km"),
+                                     (("roll", "pitch", "yaw"), angle_scale, 8 * math.pi, "file angle unit; ±8π rad")):
+        for c in group:
+            if c in cols and np.any(np.abs(cols[c]) * scale > top):
+                i = int(np.argmax(np.abs(cols[c]) * scale > top))
+                raise ToolPathError(f"{cols[c][i]:g} is outside the allowed range ±{top / scale:g} ({what})", src,
+                                    f"line {lines[i]}, column {c!r}")
     P = np.stack([cols["x"], cols["y"], cols["z"]], axis=1) * length_scale
     has_orientation = True
     if all(has_rpy):
@@ -161,9 +170,11 @@ def parse_toolpath_csv(text: str, length_scale: float, angle_scale: float, src: 
         t = t - t[0]
     elif "feed" in cols:
         feed = cols["feed"] * length_scale
-        if np.any(feed <= 0):
-            i = int(np.argmax(feed <= 0))
-            raise ToolPathError(f"feed {cols['feed'][i]:.6g} must be > 0 ({unit_names[0]}/s)", src,
+        bad = (feed < FEED_RANGE[0]) | (feed > FEED_RANGE[1])
+        if np.any(bad):
+            i = int(np.argmax(bad))
+            raise ToolPathError(f"feed {cols['feed'][i]:.6g} is outside the allowed range [{FEED_RANGE[0] / length_scale:g}, "
+                                f"{FEED_RANGE[1] / length_scale:g}] ({unit_names[0]}/s)", src,
                                 f"line {lines[i]}, column 'feed'")
         t = times_from_feed(s, feed)
     return ToolPath(poses=assemble_poses(P, R), s=s, t=t, feed=feed, source=src,

@@ -16,10 +16,14 @@ from kin.errors import RmtError
 
 from planning.toolpath.geometry import chord_length, times_from_feed
 
-__all__ = ["ToolPath", "ToolPathError", "MAX_WAYPOINTS", "robot_units"]
+__all__ = ["ToolPath", "ToolPathError", "MAX_WAYPOINTS", "FEED_RANGE", "MAX_COORDINATE", "robot_units"]
 
 #: a path longer than this is refused (a step of a micrometre over metres is a unit mistake)
 MAX_WAYPOINTS = 5_000_000
+#: feed rates a reader accepts, m/s (1 µm/s to 1 km/s)
+FEED_RANGE = (1e-6, 1e3)
+#: the largest coordinate a reader accepts, m (as a robot file's lengths)
+MAX_COORDINATE = 1e4
 
 
 class ToolPathError(RmtError, ValueError):

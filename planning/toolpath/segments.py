@@ -45,6 +45,8 @@ from planning.toolpath.geometry import (
     times_from_feed,
 )
 from planning.toolpath.model import (
+    FEED_RANGE,
+    MAX_COORDINATE,
     MAX_WAYPOINTS,
     ToolPath,
     ToolPathError,
@@ -60,6 +62,8 @@ TOP_FIELDS = ("name", "title", "description", "robot", "length_unit", "angle_uni
 START_FIELDS = ("xyz", "rpy", "quat")
 LINE_FIELDS = ("type", "to", "feed", "duration", "points", "step", "rpy", "quat")
 ARC_FIELDS = LINE_FIELDS + ("center", "normal", "through")
+#: the largest roll, pitch or yaw accepted, rad (as a robot file's angles)
+MAX_ANGLE = 8 * math.pi
 #: an arc's ``to`` may miss the radius by this fraction of it (rounded coordinates); the arc spirals onto it
 ARC_RADIUS_TOL = 1e-4
 
@@ -96,6 +100,21 @@ class _Toml:
             raise self.fail(field, f"must be a list of {size} numbers, got {_tname(obj)}"
                             + (f" of length {len(obj)}" if isinstance(obj, list) else ""))
         return np.array([self.number(v, f"{field}[{i}]") for i, v in enumerate(obj)])
+
+    def position(self, obj: Any, field: str, scale: float) -> np.ndarray:
+        """A point [x, y, z] in file units → m, every coordinate within ±:data:`MAX_COORDINATE`."""
+        p = self.vector(obj, field, 3) * scale
+        if np.any(np.abs(p) > MAX_COORDINATE):
+            raise self.fail(field, f"coordinates must lie within ±{MAX_COORDINATE / scale:g} (file length unit; 10 km)")
+        return p
+
+    def feed(self, x: float, field: str, scale: float) -> float:
+        """A feed in file units/s → m/s within :data:`FEED_RANGE`."""
+        v = x * scale
+        if not FEED_RANGE[0] <= v <= FEED_RANGE[1]:
+            raise self.fail(field, f"feed {x:g} is outside the allowed range [{FEED_RANGE[0] / scale:g}, "
+                            f"{FEED_RANGE[1] / scale:g}] (file length unit/s)")
+        return v
 
     def integer(self, obj: Any, field: str) -> int:
         if isinstance(obj, bool) or not isinstance(obj, int):
@@ -139,14 +158,14 @@ def parse_toolpath_toml(text: str, robot, src: str = "<toml>") -> ToolPath:
     st = rd.table(doc["start"], "start", START_FIELDS)
     if "xyz" not in st:
         raise rd.fail("start.xyz", "missing field: the start position [x, y, z]")
-    p0 = rd.vector(st["xyz"], "start.xyz", 3) * ls
+    p0 = rd.position(st["xyz"], "start.xyz", ls)
     if "rpy" in st and "quat" in st:
         raise rd.fail("start", "give rpy or quat, not both")
     has_orientation = "rpy" in st or "quat" in st
     R0 = _orientation(rd, st, "start", as_) if has_orientation else np.eye(3)
     defaults = {k: doc[k] for k in ("feed", "step", "points") if k in doc}
     if "feed" in defaults:
-        rd.number(defaults["feed"], "feed", positive=True)
+        rd.feed(rd.number(defaults["feed"], "feed", positive=True), "feed", ls)
     if "step" in defaults:
         rd.number(defaults["step"], "step", positive=True)
     if "points" in defaults:
@@ -169,7 +188,7 @@ def parse_toolpath_toml(text: str, robot, src: str = "<toml>") -> ToolPath:
         rd.table(seg, f, LINE_FIELDS if typ == "line" else ARC_FIELDS)
         if "to" not in seg:
             raise rd.fail(f"{f}.to", "missing field: the segment's end point [x, y, z]")
-        p1 = rd.vector(seg["to"], f"{f}.to", 3) * ls
+        p1 = rd.position(seg["to"], f"{f}.to", ls)
         if typ == "line":
             geom = _line(rd, f, p_cur, p1)
         else:
@@ -180,12 +199,14 @@ def parse_toolpath_toml(text: str, robot, src: str = "<toml>") -> ToolPath:
             raise rd.fail(f, "give points or step, not both")
         if "points" in seg:
             m = rd.integer(seg["points"], f"{f}.points")
-        elif "step" in seg:
-            m = max(1, math.ceil(L / (rd.number(seg["step"], f"{f}.step", positive=True) * ls) - 1e-9))
+        elif "step" in seg or "step" in defaults:
+            step = rd.number(seg["step"], f"{f}.step", positive=True) if "step" in seg else float(defaults["step"])
+            m_f = L / (step * ls) - 1e-9                # a float first: a tiny step gives inf, not an OverflowError
+            if not m_f <= MAX_WAYPOINTS:
+                raise rd.fail(f, f"the path would have more than {MAX_WAYPOINTS} waypoints; use a coarser step")
+            m = max(1, math.ceil(m_f))
         elif "points" in defaults:
             m = int(defaults["points"])
-        elif "step" in defaults:
-            m = max(1, math.ceil(L / (float(defaults["step"]) * ls) - 1e-9))
         else:
             raise rd.fail(f, "missing points or step (here or at the top of the file)")
         total += m
@@ -194,9 +215,9 @@ def parse_toolpath_toml(text: str, robot, src: str = "<toml>") -> ToolPath:
         if "feed" in seg and "duration" in seg:
             raise rd.fail(f, "give feed or duration, not both")
         if "feed" in seg:
-            fr = rd.number(seg["feed"], f"{f}.feed", positive=True) * ls
+            fr = rd.feed(rd.number(seg["feed"], f"{f}.feed", positive=True), f"{f}.feed", ls)
         elif "duration" in seg:
-            fr = L / rd.number(seg["duration"], f"{f}.duration", positive=True)
+            fr = rd.feed(L / ls / rd.number(seg["duration"], f"{f}.duration", positive=True), f"{f}.duration", ls)
         elif "feed" in defaults:
             fr = float(defaults["feed"]) * ls
         else:
@@ -230,7 +251,10 @@ def parse_toolpath_toml(text: str, robot, src: str = "<toml>") -> ToolPath:
 
 def _orientation(rd: _Toml, tab: dict, f: str, angle_scale: float) -> np.ndarray:
     if "rpy" in tab:
-        return rpy_to_matrices(rd.vector(tab["rpy"], f"{f}.rpy", 3) * angle_scale)[0]
+        rpy = rd.vector(tab["rpy"], f"{f}.rpy", 3) * angle_scale
+        if np.any(np.abs(rpy) > MAX_ANGLE):
+            raise rd.fail(f"{f}.rpy", f"angles must lie within ±{MAX_ANGLE / angle_scale:g} (file angle unit; ±8π rad)")
+        return rpy_to_matrices(rpy)[0]
     q = rd.vector(tab["quat"], f"{f}.quat", 4)
     n = float(np.linalg.norm(q))
     if abs(n - 1.0) > QUAT_NORM_TOL:
@@ -281,7 +305,7 @@ def _arc(rd: _Toml, f: str, seg: dict, p0, p1, ls: float) -> _Arc:
     if has_t and (has_c or has_n):
         raise rd.fail(f, "an arc takes center and normal, or a through point, not both")
     if has_t:
-        pm = rd.vector(seg["through"], f"{f}.through", 3) * ls
+        pm = rd.position(seg["through"], f"{f}.through", ls)
         a, b = pm - p0, p1 - p0
         nrm = np.cross(a, b)
         nn = float(np.linalg.norm(nrm))
@@ -298,8 +322,10 @@ def _arc(rd: _Toml, f: str, seg: dict, p0, p1, ls: float) -> _Arc:
             missing = "center" if not has_c else "normal"
             raise rd.fail(f"{f}.{missing}", "missing field: an arc needs center and normal (the rotation axis, "
                           "right-hand rule), or a through point")
-        c = rd.vector(seg["center"], f"{f}.center", 3) * ls
+        c = rd.position(seg["center"], f"{f}.center", ls)
         normal = rd.vector(seg["normal"], f"{f}.normal", 3)
+        big = float(np.abs(normal).max())
+        normal = normal / big if big > 0 else normal     # scaled first: [1e308, 0, 0] must not overflow
         nn = float(np.linalg.norm(normal))
         if nn < 1e-12:
             raise rd.fail(f"{f}.normal", "is the zero vector; give the arc's rotation axis")

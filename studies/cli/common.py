@@ -73,6 +73,15 @@ def numbers(values: Sequence[str], what: str) -> list[float]:
     return out
 
 
+def require_task_rows(robot: kin.Robot) -> kin.Robot:
+    """Refuse a chain whose tool point never moves (no task rows): its dexterity measures, singular
+    set and windows would be rounding noise (σ_min ≈ 1e-310), not answers."""
+    if not robot.task_rows:
+        raise kin.ChainError(f"{robot.name}: no task rows to control: the tool point never moves (every "
+                             "position row of the Jacobian is identically zero); name rows with task = [...]")
+    return robot
+
+
 def joint_values(robot: kin.Robot, values: Sequence[str], what: str = "joint values") -> np.ndarray:
     """A configuration given in the robot file's units → SI, checked for count and finiteness."""
     q = numbers(values, what)

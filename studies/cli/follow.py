@@ -5,10 +5,12 @@ from __future__ import annotations
 import math
 
 import kin
-from planning.follow import MODES
 
 from studies.cli.common import bounded, dump, output_file
-from studies.drawing import pen_robot, run_drawing_study
+
+#: the QP follower's task modes (planning.follow.MODES, listed here so that registering the command
+#: does not import OSQP; a test keeps the two equal)
+MODES = ("pose", "axis", "position")
 
 
 def _ranges(d: dict) -> str:
@@ -19,10 +21,12 @@ def _ranges(d: dict) -> str:
 
 
 def cmd_drawing(args, load_robot) -> int:
+    from studies.drawing import pen_robot, run_drawing_study, solver_output_silenced
     output_file(args.plot)
     robot = load_robot("ur3_homework_pen") if "ur3_homework_pen" in kin.bundled_robots() else pen_robot()
     margin = math.radians(5.0 if args.margin is None else args.margin)
-    res = run_drawing_study(robot, window_margin=margin, modes=args.modes or MODES, series=bool(args.plot))
+    with solver_output_silenced():
+        res = run_drawing_study(robot, window_margin=margin, modes=args.modes or MODES, series=bool(args.plot))
     if args.plot:
         from studies.plots.drawing import plot_drawing
         plot_drawing(res, args.plot)

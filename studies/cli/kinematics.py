@@ -7,10 +7,10 @@ import sys
 import numpy as np
 
 import kin
+from kin.robotfile import MAX_LENGTH
 from kin.transforms import make_transform, rpy_to_matrix
 
-from studies.cli.common import EXIT_FAIL, EXIT_OK, dump, joint_values, numbers, seed
-from studies.study import kinematics as ks
+from studies.cli.common import EXIT_FAIL, EXIT_OK, dump, joint_values, numbers, require_task_rows, seed
 from studies.units import joint_units, pose_to_file, unit_names
 
 
@@ -46,6 +46,7 @@ def cmd_robots(args, load_robot) -> int:
 
 
 def cmd_show(args, load_robot) -> int:
+    from studies.study import kinematics as ks
     robot = load_robot(args.robot)
     c = robot.chain
     dh = ks.dh_rows(c)
@@ -93,7 +94,8 @@ def cmd_fk(args, load_robot) -> int:
 
 
 def cmd_jacobian(args, load_robot) -> int:
-    robot = load_robot(args.robot)
+    from studies.study import kinematics as ks
+    robot = require_task_rows(load_robot(args.robot))
     q = joint_values(robot, args.q)
     _warn_limits(robot, q)
     r = ks.evaluate_configuration(robot, robot.chain.from_si(q))
@@ -116,6 +118,8 @@ def cmd_ik(args, load_robot) -> int:
     robot = load_robot(args.robot)
     c = robot.chain
     xyz = np.array(numbers(args.xyz, "--xyz")) * c.length_scale
+    if np.abs(xyz).max() > MAX_LENGTH:
+        raise kin.RmtError(f"--xyz: coordinates must lie within ±{MAX_LENGTH / c.length_scale:g} {c.length_unit} (10 km)")
     if args.rpy is not None:
         rpy = np.array(numbers(args.rpy, "--rpy")) * c.angle_scale
         target = make_transform(rpy_to_matrix(rpy), xyz)

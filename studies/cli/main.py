@@ -3,6 +3,11 @@
 Every command takes ROBOT as a bundled name (``rmt robots``) or a path to a robot file, reads and
 prints values in the robot file's units, and with ``--json`` prints one JSON object.  Bad input
 exits with code 2 and one line on stderr; ``rmt ik`` exits 1 when it finds no solution.
+
+Start-up is light: ``kin`` loads ``Robot`` (CasADi) on first use, and the command modules import their heavy dependencies (CasADi, OMPL, OSQP, sympy,
+matplotlib, the design layer) inside their command functions, so ``rmt --help`` and ``rmt fk``
+load only what they use.  A new command group is one module with ``add_commands(add)``, listed in
+:data:`GROUPS`.
 """
 from __future__ import annotations
 
@@ -42,7 +47,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub.required = True
 
     def add(name, func, help_):
-        sp = sub.add_parser(name, help=help_, description=help_)
+        # argparse %-formats the help shown in `rmt --help`: a literal "%" (as in "reach %") must be doubled
+        sp = sub.add_parser(name, help=help_.replace("%", "%%"), description=help_)
         sp.set_defaults(func=func)
         sp.add_argument("--json", action="store_true", help="print one JSON object")
         return sp
@@ -53,14 +59,15 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = build_parser()
+    """Run one command; returns the exit code (0 ok, 1 a negative answer, 2 bad input, 130 interrupted)."""
     try:
+        parser = build_parser()
         args = parser.parse_args(argv)
         return args.func(args)
-    except UsageError as e:
+    except (UsageError, kin.RmtError) as e:
         print(f"rmt: error: {e}", file=sys.stderr)
-    except kin.RmtError as e:
-        print(f"rmt: error: {e}", file=sys.stderr)
+    except SystemExit as e:         # argparse after --help
+        return e.code if isinstance(e.code, int) else EXIT_OK
     except BrokenPipeError:
         return EXIT_OK
     except KeyboardInterrupt:

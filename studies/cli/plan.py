@@ -11,13 +11,14 @@ import numpy as np
 
 import kin
 from kin.output import write_output
-from planning.ompl.planner import plan
-from planning.validate import (DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, STEP_ANGLE_RANGE, STEP_LENGTH_RANGE,
-                               check_path)
 
-from studies.cli.common import (MAX_SIGMA, CliInputError, MAX_TIME_LIMIT, bounded, dump, joint_values, output_file, seed,
-                                windows_from_args)
+from studies.cli.common import (MAX_SIGMA, MAX_TIME_LIMIT, CliInputError, bounded, dump, joint_values, output_file,
+                                require_task_rows, seed, windows_from_args)
 from studies.units import joint_units
+
+
+#: the largest joint-path file read (about a million rows of six joints)
+MAX_PATH_BYTES = 100_000_000
 
 
 class PathFileError(kin.RmtError):
@@ -47,6 +48,9 @@ def read_path_csv(robot, path: str | Path) -> np.ndarray:
     """A joint path CSV (one configuration per row, robot file units; optional header) → (M, n) SI."""
     path = Path(path)
     try:
+        if path.is_file() and path.stat().st_size > MAX_PATH_BYTES:
+            raise PathFileError(f"{path}: {path.stat().st_size / 1e6:.0f} MB; a joint-path file may hold at most "
+                                f"{MAX_PATH_BYTES / 1e6:.0f} MB")
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
         raise PathFileError(f"{path}: no such joint-path file") from None
@@ -73,8 +77,9 @@ def read_path_csv(robot, path: str | Path) -> np.ndarray:
 
 
 def cmd_plan(args, load_robot) -> int:
+    from planning.ompl.planner import plan
     output_file(args.out)
-    robot = load_robot(args.robot)
+    robot = require_task_rows(load_robot(args.robot))
     start = joint_values(robot, args.start, "--start")
     goal = joint_values(robot, args.goal, "--goal")
     ws = windows_from_args(robot, args.margin, args.sigma_min, args.seed)
@@ -107,7 +112,9 @@ def cmd_plan(args, load_robot) -> int:
 
 
 def cmd_check_path(args, load_robot) -> int:
-    robot = load_robot(args.robot)
+    from planning.validate import (DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, STEP_ANGLE_RANGE, STEP_LENGTH_RANGE,
+                                   check_path)
+    robot = require_task_rows(load_robot(args.robot))
     P = read_path_csv(robot, args.path)
     ws = windows_from_args(robot, args.margin, args.sigma_min, args.seed)
     c = robot.chain

@@ -5,10 +5,8 @@ from __future__ import annotations
 import math
 
 import kin
-from kin.singular import analyse_singularities
-from planning.windows import WindowSet, build_windows
-
-from studies.cli.common import MAX_SIGMA, bounded, dump, factor_margins, output_file, seed
+from studies.cli.common import (MAX_SIGMA, bounded, dump, factor_margins, output_file, require_task_rows,
+                                seed)
 
 #: the most joint-space samples ``rmt workspace`` takes
 MAX_SAMPLES = 10_000_000
@@ -41,7 +39,8 @@ def singularities_json(robot: kin.Robot, analysis) -> dict:
 
 
 def cmd_singularities(args, load_robot) -> int:
-    robot = load_robot(args.robot)
+    from kin.singular import analyse_singularities
+    robot = require_task_rows(load_robot(args.robot))
     analysis = analyse_singularities(robot, seed=args.seed)
     out = singularities_json(robot, analysis)
     if args.json:
@@ -69,7 +68,7 @@ def cmd_singularities(args, load_robot) -> int:
     return 0
 
 
-def _windows_text(robot: kin.Robot, ws: WindowSet) -> str:
+def _windows_text(robot: kin.Robot, ws) -> str:
     c = robot.chain
     lines = [f"{c.name}: {len(ws.windows)} window{'s' if len(ws.windows) != 1 else ''}"]
     for w in ws.windows:
@@ -84,8 +83,10 @@ def _windows_text(robot: kin.Robot, ws: WindowSet) -> str:
 
 
 def cmd_windows(args, load_robot) -> int:
+    from kin.singular import analyse_singularities
+    from planning.windows import build_windows
     output_file(args.out)
-    robot = load_robot(args.robot)
+    robot = require_task_rows(load_robot(args.robot))
     c = robot.chain
     analysis = analyse_singularities(robot, seed=args.seed)
     reports = None
@@ -121,7 +122,7 @@ def cmd_windows(args, load_robot) -> int:
 def cmd_workspace(args, load_robot) -> int:
     from design.workspace import compute_workspace
     output_file(args.plot)
-    robot = load_robot(args.robot)
+    robot = require_task_rows(load_robot(args.robot))
     ws = compute_workspace(robot, n_samples=args.samples, method=args.method, seed=args.seed,
                            threshold=args.sigma_min)
     if args.plot:

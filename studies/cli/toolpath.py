@@ -11,11 +11,8 @@ from pathlib import Path
 import numpy as np
 
 import kin
-from planning.toolpath import ToolPathError, load_toolpath
-from planning.toolpath.check import KINDS, ToolPathReport, validate_toolpath
-from planning.windows import WindowSet
-
-from studies.cli.common import MAX_SIGMA, bounded, jsonable, numbers, output_file, seed, windows_from_args
+from studies.cli.common import (MAX_SIGMA, bounded, jsonable, numbers, output_file, require_task_rows, seed,
+                                windows_from_args)
 from studies.units import joint_units, unit_names
 
 #: bundled example tool paths: ``rmt validate-toolpath ROBOT NAME`` finds ``NAME.toml`` or ``NAME.csv`` here
@@ -29,6 +26,7 @@ def bundled_toolpaths() -> list[str]:
 
 def toolpath_file(arg: str) -> Path:
     """A tool-path argument → an existing file: a path, or the name of a bundled example."""
+    from planning.toolpath import ToolPathError
     p = Path(arg)
     if p.is_file():
         return p
@@ -48,8 +46,9 @@ def _positive(x: float | None, what: str) -> float | None:
     return x
 
 
-def _windows(robot: kin.Robot, args) -> WindowSet | None:
+def _windows(robot: kin.Robot, args):
     """Windows from --margin (file units), --sigma-min (SI threshold) or --windows FILE.json; or None."""
+    from planning.windows import WindowSet
     if args.windows:
         ws = WindowSet.load(args.windows)
         if ws.n != robot.n:
@@ -81,8 +80,10 @@ def _num(x):
     return x if math.isfinite(x) else None
 
 
-def report_json(report: ToolPathReport, robot: kin.Robot, waypoints: bool = False) -> dict:
-    """The CLI's JSON object: SI summary converted to the robot file's units (σ_min stays SI)."""
+def report_json(report, robot: kin.Robot, waypoints: bool = False) -> dict:
+    """The CLI's JSON object of a :class:`~planning.toolpath.ToolPathReport`: SI summary converted to
+    the robot file's units (σ_min stays SI)."""
+    from planning.toolpath.check import KINDS
     c = robot.chain
     L, A, var = c.length_scale, c.angle_scale, c.variable_scale
     d = report.summary()
@@ -124,7 +125,7 @@ def report_json(report: ToolPathReport, robot: kin.Robot, waypoints: bool = Fals
 
 
 
-def report_text(report: ToolPathReport, robot: kin.Robot) -> str:
+def report_text(report, robot: kin.Robot) -> str:
     """The verdict line, then a short table (robot file units)."""
     c = robot.chain
     L, Lu, A, Au = c.length_scale, c.length_unit, c.angle_scale, c.angle_unit
@@ -168,8 +169,10 @@ def report_text(report: ToolPathReport, robot: kin.Robot) -> str:
 
 
 def cmd_validate_toolpath(args, load_robot) -> int:
+    from planning.toolpath import load_toolpath
+    from planning.toolpath.check import validate_toolpath
     output_file(args.plot)
-    robot = load_robot(args.robot)
+    robot = require_task_rows(load_robot(args.robot))
     c = robot.chain
     tp = load_toolpath(toolpath_file(args.toolpath), robot)
     ws = _windows(robot, args)

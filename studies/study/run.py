@@ -18,7 +18,7 @@ import numpy as np
 import kin
 from kin.output import fresh_directory
 
-from studies.cli.common import jsonable
+from studies.cli.common import jsonable, require_task_rows
 from studies.study import kinematics as ks
 
 #: the files a run writes (an existing run directory holding anything else is not replaced)
@@ -39,9 +39,9 @@ def run_study(study: dict, out_dir: str | Path, progress=None) -> dict:
 
 
 def _run(study: dict, out_dir: Path, tmp: Path, say) -> dict:
+    robot = require_task_rows(kin.load_robot(study["robot"]))
     say("kinematics")
     results = ks.run_kinematics_study(study)
-    robot = kin.load_robot(study["robot"])
     c = robot.chain
     results["ok"] = True
     analysis = None

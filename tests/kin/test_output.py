@@ -57,6 +57,12 @@ def test_refuses_a_directory_a_fifo_and_a_device(tmp_path):
     assert _tree(tmp_path) == ["d", "f"]
 
 
+def test_a_name_ending_in_a_slash_is_a_directory(tmp_path):
+    with pytest.raises(OutputError, match="names a directory"):
+        write_output(f"{tmp_path}/new/", "x")
+    assert _tree(tmp_path) == []
+
+
 def test_parent_that_is_a_file(tmp_path):
     (tmp_path / "file").write_text("")
     with pytest.raises(OutputError, match="is not a directory"):

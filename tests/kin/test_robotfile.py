@@ -11,6 +11,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import kin
+from kin.errors import RobotFileError
 from kin.robotfile import dumps_robot, load_chain, loads_robot, save_robot
 
 from tests.dh_numpy import fk_numpy
@@ -536,3 +537,35 @@ def test_save_robot_failure_leaves_old_file(tmp_path, monkeypatch):
     monkeypatch.undo()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["arm.toml"]      # the temporary file is gone
     assert path.read_text() == GOOD
+
+
+# ---- magnitudes: huge or vanishing lengths, angles beyond four turns --------------------------
+@pytest.mark.parametrize("old,new,field", [
+    ("a = 100.0", "a = 1e308", "joints[0].a"),                  # overflows every product
+    ("a = 100.0", "a = 1e-300", "joints[0].a"),                 # zero in disguise
+    ("d = 250.0", "d = 1.1e7", "joints[0].d"),                  # 11 km in mm
+    ("d = 250.0", "d = 1e-7", "joints[0].d"),                   # 0.1 nm in mm
+    ("limits = [10.0, 300.0]", "limits = [10.0, 1e300]", "joints[1].limits[1]"),
+    ("alpha = -90.0", "alpha = 1e308", "joints[0].alpha"),
+    ("theta = 90.0", "theta = 1441.0", "joints[1].theta"),     # just beyond ±1440° = ±8π
+])
+def test_magnitudes_outside_their_range_are_refused(old, new, field):
+    with pytest.raises(RobotFileError, match=re.escape(field)) as e:
+        loads_robot(edit(GOOD, old, new), "arm.toml")
+    assert "\n" not in str(e.value) and ("allowed range" in str(e.value) or "exceeds" in str(e.value))
+
+
+def test_magnitudes_at_the_edges_are_accepted():
+    c = loads_robot(edit(edit(GOOD, "a = 100.0", "a = 1e-6"), "d = 250.0", "d = 1e7"))   # 1 nm, 10 km in mm
+    assert c.joints[0].a == pytest.approx(1e-9) and c.joints[0].d == pytest.approx(1e4)
+    c = loads_robot(edit(GOOD, "theta = 90.0", "theta = 1440.0"))
+    assert c.joints[1].theta == pytest.approx(8 * math.pi)
+
+
+def test_placement_and_parameter_magnitudes():
+    with pytest.raises(RobotFileError, match=r"tool.xyz\[2\]"):
+        loads_robot(GOOD + "\n[tool]\nxyz = [0.0, 0.0, 1e300]\n")
+    with pytest.raises(RobotFileError, match=r"base.matrix\[0\]\[3\]"):
+        loads_robot(GOOD + "\n[base]\nmatrix = [[1, 0, 0, 1e-300], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]\n")
+    with pytest.raises(RobotFileError, match=r"parameters.L.bounds\[1\]"):
+        loads_robot(edit(GOOD, "a = 100.0", 'a = "L"') + "\n[parameters.L]\nvalue = 100.0\nbounds = [0.0, 1e308]\n")

@@ -243,7 +243,7 @@ def test_cli_drawing_json_and_plot(capsys, tmp_path, monkeypatch, drawing):
     # the CLI glue end to end (arguments, JSON, plot file, exit codes) on the study computed above
     import copy
 
-    import studies.cli.follow as cf
+    import studies.drawing as sd
     from studies.cli import main
     calls = {}
 
@@ -254,7 +254,7 @@ def test_cli_drawing_json_and_plot(capsys, tmp_path, monkeypatch, drawing):
             out.pop("series")
         return out
 
-    monkeypatch.setattr(cf, "run_drawing_study", cached)
+    monkeypatch.setattr(sd, "run_drawing_study", cached)      # the command imports it when it runs
     png = tmp_path / "drawing.png"
     code = main(["drawing", "--json", "--plot", str(png)])
     out, err = capsys.readouterr()

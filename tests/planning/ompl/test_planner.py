@@ -351,3 +351,40 @@ def test_returned_paths_are_proven():
                time_limit=2.0, seed=0)
     assert res.success and res.proven and res.proof.methods["wrist: sin(q5)"] == "exact"
     assert any(m == "interval" for m in res.proof.methods.values())
+
+
+# ---- the PRM family with the singularity objective (it used to deadlock) -----------------------
+def test_edge_costs_are_the_trapezoid_rule_with_numpy_sigma(fanuc):
+    """Length + ∫ 0.01/σ_min ds per motion, against a loop with numpy's SVD of the numpy Jacobian."""
+    from planning.ompl.planner import _edge_costs
+    robot, _ = fanuc
+    A = robot.random_configurations(4, seed=1)
+    B = robot.random_configurations(4, seed=2)
+    got = _edge_costs(robot, A, B, 0.1, 0.01)
+    for a, b, g in zip(A, B, got):
+        L = float(np.linalg.norm(b - a))
+        k = max(1, math.ceil(L / 0.1))
+        c = 0.01 / sigma_numpy(robot.chain, np.array([a + t * (b - a) for t in np.linspace(0, 1, k + 1)]))
+        assert g == pytest.approx(L + 0.5 * (c[:-1] + c[1:]).sum() * L / k, rel=1e-9)
+
+
+@pytest.mark.parametrize("planner", ["PRM*", "PRM"])
+def test_prm_with_singularity_objective_returns(planner, fanuc):
+    """OMPL's PRM searches its roadmap in a second thread; a Python objective there waited for the
+    GIL forever.  Run in a subprocess so a regression fails this test instead of hanging the suite."""
+    import subprocess
+    import sys
+    code = ("import json, numpy as np, kin\n"
+            "from planning.windows import build_windows\nfrom planning.ompl.planner import plan\n"
+            "r = kin.load_robot('fanuc_m16ib20')\nws = build_windows(r, margin=0.05)\n"
+            f"res = plan(r, np.array({START.tolist()}), np.array({GOAL.tolist()}), ws, planner='{planner}', "
+            "objective='singularity', time_limit=0.5, seed=1)\n"
+            "print(json.dumps({'success': res.success, 'path': res.path.tolist(), 'status': res.status}))\n")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300,
+                       cwd=str(__import__("pathlib").Path(__file__).resolve().parents[3]))
+    assert p.returncode == 0, p.stderr[-2000:]
+    d = json.loads(p.stdout.strip().splitlines()[-1])
+    assert d["success"] and "minimised on the roadmap" in d["status"]
+    robot, ws = fanuc
+    Q = dense(np.array(d["path"]))
+    assert within_limits(robot.chain, Q) and fanuc_outside_windows(robot.chain, ws, Q[::20]).all()
