@@ -11,9 +11,10 @@ import numpy as np
 
 import kin
 from kin.output import write_output
+from kin.transforms import make_transform, rpy_to_matrix
 
-from studies.cli.common import (MAX_SIGMA, MAX_TIME_LIMIT, CliInputError, bounded, dump, joint_values, output_file,
-                                require_task_rows, seed, windows_from_args)
+from studies.cli.common import (MAX_SIGMA, MAX_TIME_LIMIT, CliInputError, bounded, dump, joint_values, numbers,
+                                output_file, require_task_rows, seed, windows_from_args)
 from studies.units import joint_units
 
 
@@ -80,12 +81,26 @@ def cmd_plan(args, load_robot) -> int:
     from planning.ompl.planner import plan
     output_file(args.out)
     robot = require_task_rows(load_robot(args.robot))
-    start = joint_values(robot, args.start, "--start")
-    goal = joint_values(robot, args.goal, "--goal")
-    ws = windows_from_args(robot, args.margin, args.sigma_min, args.seed)
-    res = plan(robot, start, goal, ws, planner=args.planner, time_limit=args.time_limit, seed=args.seed,
-               objective=args.objective)
     c = robot.chain
+    start = joint_values(robot, args.start, "--start")
+    goal = goal_pose = None
+    if args.goal is not None:
+        goal = joint_values(robot, args.goal, "--goal")
+    else:
+        xyz = np.array(numbers(args.goal_pose[:3], "--goal-pose")) * c.length_scale
+        rpy = np.array(numbers(args.goal_pose[3:], "--goal-pose")) * c.angle_scale
+        if not np.all(np.abs(xyz) <= 1e4):
+            raise CliInputError("--goal-pose: X Y Z must be within ±10 km")
+        if not np.all(np.abs(rpy) <= 2 * math.pi + 1e-9):
+            raise CliInputError(f"--goal-pose: R P Y must be within ±{2 * math.pi / c.angle_scale:g} {c.angle_unit} "
+                                "(the robot file's angle unit)")
+        goal_pose = make_transform(rpy_to_matrix(rpy), xyz)
+    boxes = _keep_out(c, args)
+    ws = windows_from_args(robot, args.margin, args.sigma_min, args.seed)
+    res = plan(robot, start, goal, ws, goal_pose=goal_pose, planner=args.planner, time_limit=args.time_limit,
+               seed=args.seed, objective=args.objective, boxes=boxes)
+    if goal is None:
+        goal = res.goal if res.goal is not None else start
     path_file = robot.chain.from_si(res.path) if res.success else np.zeros((0, robot.n))
     if args.out and res.success:
         write_path_csv(robot, res.path, args.out)
@@ -93,6 +108,14 @@ def cmd_plan(args, load_robot) -> int:
            "length": _num(res.length), "min_sigma": _num(res.min_sigma),
            "windows": [] if ws is None else [w.name for w in ws.windows],
            "straight_line_valid": res.straight_line_valid, "status": res.status,
+           "proven": res.proven, "checks": None if res.check is None else
+           {"windows": res.check.windows_check, "sigma_min": res.check.sigma_check},
+           "separation": None if res.separation is None else
+           {"joints": list(res.separation.joints), "kind": res.separation.kind, "reason": res.separation.reason},
+           "goal": None if res.goal is None else c.from_si(res.goal).tolist(),
+           "goal_branch": None if res.goal_branch is None else
+           {k: v for k, v in res.goal_branch.items() if k != "q"},
+           "keep_out_boxes": len(boxes),
            "units": {"path": "robot file units", "length": "joint-space length, SI (rad/m)", "min_sigma": "SI"}}
     if args.json:
         print(dump(out))
@@ -104,11 +127,33 @@ def cmd_plan(args, load_robot) -> int:
             print("  " + " ".join(f"{f'q{i + 1} [{u}]':>10}" for i, u in enumerate(joint_units(c))))
             for row in path_file:
                 print("  " + " ".join(f"{x:10.5g}" for x in row))
+            if res.goal_branch is not None:
+                b = res.goal_branch
+                print(f"goal pose: {b['candidates']} valid IK branch(es), {b['in_start_cell']} on the start's side of "
+                      f"every window; the nearest such one chosen")
+            print("windows proven clear along every segment" if res.proven
+                  else "windows checked by samples on some segments (the proof could not settle them)")
             if args.out:
                 print(f"wrote {args.out}")
+        elif res.separation is not None:
+            print(res.status)
         else:
             print(f"no path found by {res.planner} within {args.time_limit:g} s ({res.status})")
     return 0 if res.success else 1
+
+
+def _keep_out(chain, args) -> list:
+    """Keep-out boxes from ``--keep-out FILE`` and ``--keep-out-box`` (robot file length unit)."""
+    from planning.ompl import KeepOutBox
+    from planning.ompl.keep_out import load_keep_out
+    boxes = [] if args.keep_out is None else load_keep_out(args.keep_out, chain.length_unit)
+    for raw in args.keep_out_box or []:
+        v = np.array(numbers(raw, "--keep-out-box")) * chain.length_scale
+        if not (np.all(np.abs(v) <= 1e4) and np.all(v[:3] < v[3:])):
+            raise CliInputError(f"--keep-out-box {' '.join(raw)}: needs X0 Y0 Z0 X1 Y1 Z1 with each lower corner "
+                                "value below the upper one, within ±10 km")
+        boxes.append(KeepOutBox(tuple(v[:3]), tuple(v[3:])))
+    return boxes
 
 
 def cmd_check_path(args, load_robot) -> int:
@@ -157,7 +202,14 @@ def add_commands(add) -> None:
     sp = add("plan", cmd_plan, "plan a joint path with OMPL that avoids the singular windows; exit 1 if none found")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
     sp.add_argument("--start", nargs="+", required=True, metavar="Q", help="start configuration, file units")
-    sp.add_argument("--goal", nargs="+", required=True, metavar="Q", help="goal configuration, file units")
+    goal = sp.add_mutually_exclusive_group(required=True)
+    goal.add_argument("--goal", nargs="+", metavar="Q", help="goal configuration, file units")
+    goal.add_argument("--goal-pose", nargs=6, metavar=("X", "Y", "Z", "R", "P", "Y"),
+                      help="goal tool pose, file units (fixed-axis roll-pitch-yaw): the IK branch on the start's "
+                           "side of every window, nearest first")
+    sp.add_argument("--keep-out", metavar="FILE.toml", help="keep-out boxes of the work cell (TOML, see the README)")
+    sp.add_argument("--keep-out-box", nargs=6, action="append", metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"),
+                    help="a keep-out box for the tool point, base frame, file length unit (repeatable)")
     _window_args(sp)
     sp.add_argument("--planner", default="RRTConnect", help="OMPL planner (RRTConnect, RRT*, PRM*, BIT*, ...)")
     sp.add_argument("--time-limit", type=bounded(0, MAX_TIME_LIMIT, "s", open_low=True), default=2.0,
