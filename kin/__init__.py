@@ -6,12 +6,12 @@
 array([1.02 , 0.   , 1.365])
 """
 from kin.chain import Chain, Joint, Parameter, Placement
-from kin.errors import (ChainError, CompileError, ConfigurationError, JointLimitError, ParameterError, RmtError,
-                     RobotFileError, UnknownRobotError)
+from kin.errors import (ChainError, CompileError, ConfigurationError, JointLimitError, OutputError, ParameterError,
+                        RmtError, RobotFileError, SettingError, UnknownRobotError)
 from kin.robot import Measures, Robot, load_robot
 from kin.robotfile import bundled_robots, dumps_robot, load_chain, loads_robot, save_robot
 
 __all__ = ["Chain", "Joint", "Parameter", "Placement", "Robot", "Measures", "load_robot", "load_chain",
            "loads_robot", "dumps_robot", "save_robot", "bundled_robots", "RmtError", "RobotFileError",
            "UnknownRobotError", "ChainError", "ConfigurationError", "JointLimitError", "ParameterError",
-           "CompileError"]
+           "CompileError", "OutputError", "SettingError"]
