@@ -67,13 +67,15 @@ def jacobi_c(rows: tuple[int, ...], n: int) -> str:
     out = [_lanes("rmt_task_matrix", "const double* restrict J, double* restrict a", copy)]
     body = [f"double {a(i, k)} = {at(i, k)};" for i in range(C) for k in range(R)]
     body += [f"double d{i} = " + " + ".join(f"{a(i, k)} * {a(i, k)}" for k in range(R)) + ";" for i in range(C)]
-    body.append("double gamma, g, zeta, t, cs, sn, u, v; int rot, any = 0;")
+    # t = tan θ of the rotation that zeroes γ: with a = d_j − d_i, b = 2γ (ζ = a/b),
+    # t = sign(ζ)/(|ζ| + √(1 + ζ²)) = sign(a)·b / (|a| + √(a² + b²)): one division fewer
+    body.append("double gamma, da, b, t, cs, sn, u, v; int rot, any = 0;")
     for i in range(C - 1):
         for j in range(i + 1, C):
             body += ["gamma = " + " + ".join(f"{a(i, k)} * {a(j, k)}" for k in range(R)) + ";",
                      f"rot = gamma * gamma > 1e-30 * (d{i} * d{j});", "any |= rot;",
-                     "g = rot ? gamma : 1.0;", f"zeta = (d{j} - d{i}) / (2.0 * g);",
-                     "t = (zeta >= 0 ? 1.0 : -1.0) / (fabs(zeta) + sqrt(1.0 + zeta * zeta));",
+                     f"da = d{j} - d{i};", "b = rot ? 2.0 * gamma : 1.0;",
+                     "t = (da >= 0 ? b : -b) / (fabs(da) + sqrt(da * da + b * b));",
                      "t = rot ? t : 0.0;", "cs = 1.0 / sqrt(1.0 + t * t);", "sn = cs * t;"]
             for k in range(R):
                 body += [f"u = {a(i, k)}; v = {a(j, k)};", f"{a(i, k)} = cs * u - sn * v;", f"{a(j, k)} = sn * u + cs * v;"]
