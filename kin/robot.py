@@ -123,8 +123,16 @@ class Robot:
         Q, single = self._batch(q)
         return self.evaluator.evaluate(Q, self._params(params, len(Q)), want, out), single
 
-    def _single(self, q, want: int, outputs: str):
-        """Fast path for one configuration with nominal parameters; None when it does not apply."""
+    def _one(self, q, name: str, want: int):
+        """Fast path for one configuration with nominal parameters (``name``: fk, jacobian,
+        fk_jacobian, measures); None when it does not apply and the validating batch path must run.
+
+        The compiled library's extension functions take q as it comes (anything but a finite float64
+        (n,) array gives None); without them, the library's buffers are used through ctypes.
+        """
+        f = self._fast
+        if f is not None:
+            return f.measures(q, want) if name == "measures" else getattr(f, name)(q)
         ev = self.evaluator
         if type(ev) is not CompiledEvaluator or type(q) is not np.ndarray or q.shape != (self.n,) \
                 or q.dtype.kind not in "fiu":
@@ -132,11 +140,11 @@ class Robot:
         with ev.lock:
             if ev.one(q, want):
                 self.chain.as_batch(q)  # raises the ConfigurationError naming the joint
-            if outputs == "T":
+            if name == "fk":
                 return ev.T1.copy()
-            if outputs == "J":
+            if name == "jacobian":
                 return ev.J1.copy()
-            if outputs == "TJ":
+            if name == "fk_jacobian":
                 return ev.T1.copy(), ev.J1.copy()
             return ev.m1.copy()
 
@@ -155,13 +163,8 @@ class Robot:
 
         ``out``: a float64 C-contiguous array of the result's shape to write into (returned).
         """
-        if params is None and out is None:
-            f = self._fast
-            if f is not None:
-                if (T := f.fk(q)) is not None:
-                    return T
-            elif (T := self._single(q, WANT_T, "T")) is not None:
-                return T
+        if params is None and out is None and (T := self._one(q, "fk", WANT_T)) is not None:
+            return T
         if out is not None:
             self._into(q, WANT_T, params, {"T": out}, {"T": (4, 4)})
             return out
@@ -173,13 +176,8 @@ class Robot:
 
         ``out``: as in :meth:`fk`.
         """
-        if params is None and out is None:
-            f = self._fast
-            if f is not None:
-                if (J := f.jacobian(q)) is not None:
-                    return J
-            elif (J := self._single(q, WANT_J, "J")) is not None:
-                return J
+        if params is None and out is None and (J := self._one(q, "jacobian", WANT_J)) is not None:
+            return J
         if out is not None:
             self._into(q, WANT_J, params, {"J": out}, {"J": (6, self.n)})
             return out
@@ -189,13 +187,8 @@ class Robot:
     def fk_jacobian(self, q, params=None, out: tuple[np.ndarray, np.ndarray] | None = None
                     ) -> tuple[np.ndarray, np.ndarray]:
         """(T, J) in one evaluation; shapes as :meth:`fk` and :meth:`jacobian`; ``out`` a pair of arrays."""
-        if params is None and out is None:
-            f = self._fast
-            if f is not None:
-                if (TJ := f.fk_jacobian(q)) is not None:
-                    return TJ
-            elif (TJ := self._single(q, WANT_T | WANT_J, "TJ")) is not None:
-                return TJ
+        if params is None and out is None and (TJ := self._one(q, "fk_jacobian", WANT_T | WANT_J)) is not None:
+            return TJ
         if out is not None:
             if not isinstance(out, tuple) or len(out) != 2:
                 raise OutputError("out must be a pair (T, J) of arrays")
@@ -215,13 +208,8 @@ class Robot:
         viewed by the returned arrays.
         """
         want = WANT_MANIP | WANT_SIGMA
-        if params is None and out is None:
-            f = self._fast
-            if f is not None:
-                if (m := f.measures(q, want)) is not None:
-                    return Measures(*m)
-            elif (m := self._single(q, want, "m")) is not None:
-                return Measures(*(float(x) for x in m))
+        if params is None and out is None and (m := self._one(q, "measures", want)) is not None:
+            return Measures(*(float(x) for x in m))
         if out is not None:
             self._into(q, want, params, {"measures": out}, {"measures": (4,)})
             return Measures(*(float(x) for x in out)) if out.ndim == 1 else Measures(*out.T)
@@ -230,13 +218,8 @@ class Robot:
         return Measures(*(float(x) for x in M[0])) if single else Measures(*M.T.copy())
 
     def _measure(self, q, params, col: int, want: int, out):
-        if params is None and out is None:
-            f = self._fast
-            if f is not None:
-                if (m := f.measures(q, want)) is not None:
-                    return m[col]
-            elif (m := self._single(q, want, "m")) is not None:
-                return float(m[col])
+        if params is None and out is None and (m := self._one(q, "measures", want)) is not None:
+            return float(m[col])
         name = MEASURE_NAMES[col]
         if out is not None:
             self._into(q, want, params, {name: out}, {name: ()})

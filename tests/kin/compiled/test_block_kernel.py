@@ -248,3 +248,27 @@ def test_graph_block_c_refuses_unknown_operations():
         graph_block_c(f, "g", ["x"], ["y"])
     with pytest.raises(kin.CompileError, match="names"):
         graph_block_c(ca.Function("f", [x], [x * 2]), "g", ["x", "z"], ["y"])
+
+
+def test_single_call_without_extension_uses_library_buffers():
+    """Without Python/numpy headers the single path goes through ctypes and the library's buffers."""
+    chain = kin.load_chain("puma560")
+    r = kin.Robot(chain)
+    r.evaluator.single = None          # as when built without the extension
+    assert r._fast is None
+    Q = random_q(chain, 4, 12)
+    T_ref, J_ref, M_ref = reference(chain, r.task_rows, Q)
+    for k, q in enumerate(Q):
+        T, J = r.fk_jacobian(q)
+        np.testing.assert_allclose(T, T_ref[k], atol=1e-12)
+        np.testing.assert_allclose(J, J_ref[k], atol=1e-12)
+        np.testing.assert_allclose(r.fk(q), T_ref[k], atol=1e-12)
+        np.testing.assert_allclose(r.jacobian(q), J_ref[k], atol=1e-12)
+        m = r.measures(q)
+        assert isinstance(m.sigma_min, float)
+        np.testing.assert_allclose(list(m), M_ref[k], rtol=1e-9)
+        assert r.sigma_min(q) == m.sigma_min
+    bad = Q[0].copy()
+    bad[2] = np.nan
+    with pytest.raises(kin.ConfigurationError, match="joint 3"):
+        r.fk(bad)
