@@ -132,7 +132,8 @@ class Robot:
         """
         f = self._fast
         if f is not None:
-            return f.measures(q, want) if name == "measures" else getattr(f, name)(q)
+            p = self.evaluator.p_nominal
+            return f.measures(q, p, want) if name == "measures" else getattr(f, name)(q, p)
         ev = self.evaluator
         if type(ev) is not CompiledEvaluator or type(q) is not np.ndarray or q.shape != (self.n,) \
                 or q.dtype.kind not in "fiu":

@@ -190,8 +190,8 @@ class CompiledEvaluator:
         self.T1 = buf("rmt_gT", 16).reshape(4, 4)
         self.J1 = buf("rmt_gJ", 6 * self.n).reshape(6, self.n)
         self.m1 = buf("rmt_gm", 4)
-        if self.n_p:
-            self.p1[:] = sym.chain.parameter_values
+        #: nominal design parameters, float64 (n_p,) (the single-call paths' parameters)
+        self.p_nominal = np.ascontiguousarray(sym.chain.parameter_values, dtype=float)
         self.lock = threading.Lock()
 
     def _build(self, source: str, compiler: str, arch: str, directory: Path, extra: tuple[str, ...]) -> None:
@@ -204,8 +204,9 @@ class CompiledEvaluator:
         if extra:
             self.single = _load_extension(self.path)
 
-    #: the library as a Python extension module (``fk``, ``jacobian``, ``fk_jacobian``,
-    #: ``measures``; see :mod:`kin.compiled.kernel_source`), or None when built without it
+    #: the library as a Python extension module (``fk(q, p)``, ``jacobian(q, p)``,
+    #: ``fk_jacobian(q, p)``, ``measures(q, p, want)``, p = :attr:`p_nominal`; see
+    #: :mod:`kin.compiled.kernel_source`), or None when built without it
     single = None
 
     def source(self, block: int = 16) -> str:
@@ -239,12 +240,14 @@ class CompiledEvaluator:
         return res
 
     def one(self, q, want: int) -> int:
-        """Single configuration, nominal parameters, into the library's buffers ``T1 J1 m1``.
+        """Single configuration, parameters :attr:`p_nominal`, into the library's buffers ``T1 J1 m1``.
 
         Call with :attr:`lock` held and copy the results out before releasing it.  Returns 0, or
         −(1 + i) when joint i of ``q`` is not finite.
         """
         self.q1[:] = q
+        if self.n_p:  # the library is shared by chains of the same structure: parameters each call
+            self.p1[:] = self.p_nominal
         return self._eval_g(want)
 
 

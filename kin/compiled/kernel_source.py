@@ -18,7 +18,8 @@ compiler vectorises (``#pragma omp simd``, built with ``-fopenmp-simd``, no Open
    the block rotates any more;
 4. the block is transposed back into the caller's row-major (N, 4, 4), (N, 6, n) and measure arrays.
 
-Threads: ``rmt_eval`` starts ``nthreads − 1`` POSIX threads per call (none for small batches),
+Threads: ``rmt_eval`` starts ``nthreads − 1`` POSIX threads per call (none below 8192
+configurations; at least 4096 configurations per thread),
 which take chunks of blocks from an atomic counter and are joined before it returns.  Waiting is a
 blocking join — no spinning thread pool is left behind to compete with other processes, and
 dynamic chunks keep a thread that the scheduler delays from holding up the call.
@@ -49,6 +50,7 @@ _TEMPLATE = r"""
 #define RMT_CHUNK 8              /* blocks taken by a thread at a time */
 #define RMT_MAX_THREADS 256
 #define RMT_STREAM_BYTES (8LL << 20)
+#define RMT_MIN_PER_THREAD 4096
 #define RMT_R (RMT_M >= RMT_N ? RMT_M : RMT_N)
 #define RMT_C (RMT_M >= RMT_N ? RMT_N : RMT_M)
 #define RMT_INLINE static inline __attribute__((always_inline))
@@ -205,7 +207,10 @@ int rmt_eval(const double* q, const double* p, long long N, long long pstride, d
   long long chunks = (nb + RMT_CHUNK - 1) / RMT_CHUNK;
   if (nthreads < 1) nthreads = 1;
   if (nthreads > RMT_MAX_THREADS) nthreads = RMT_MAX_THREADS;
-  if (nthreads > chunks / 2) nthreads = (int)(chunks / 2 > 1 ? chunks / 2 : 1);  /* >= 2 chunks each */
+  /* a thread costs tens of µs to start: each must have RMT_MIN_PER_THREAD configurations of work */
+  long long most = N / RMT_MIN_PER_THREAD;
+  if (most > chunks / 2) most = chunks / 2;  /* and >= 2 chunks, so the dynamic split can balance */
+  if (nthreads > most) nthreads = (int)(most > 1 ? most : 1);
   rmt_job job = { &A, nb, &next };
   pthread_t tid[RMT_MAX_THREADS];
   int started = 0;
@@ -230,7 +235,7 @@ static void rmt_one(const double* q, const double* p, double* T, double* J, doub
 }
 
 /* Single configuration through library-owned buffers (no pointer marshalling from Python):
-   rmt_gq, rmt_gp (nominal parameters) in; rmt_gT, rmt_gJ, rmt_gm out.  Returns 0, or −(1 + i)
+   rmt_gq, rmt_gp (parameters, written by the caller with each call) in; rmt_gT, rmt_gJ, rmt_gm out.  Returns 0, or −(1 + i)
    when joint i is not finite. */
 double rmt_gq[RMT_N], rmt_gp[RMT_NP1], rmt_gT[16], rmt_gJ[6 * RMT_N], rmt_gm[4];
 int rmt_eval_g(int flags) {
@@ -241,22 +246,33 @@ int rmt_eval_g(int flags) {
 
 #ifdef RMT_PYEXT
 /* The single-call path as a CPython extension module: one C call from Python per evaluation, the
-   result arrays created here.  Each function takes a float64 C-contiguous ndarray of shape (n,)
-   with finite values and returns None for anything else (the Python caller then validates and
-   reports).  Nominal parameters from rmt_gp.  Runs with the GIL held. */
+   result arrays created here.  Each function takes q, a float64 C-contiguous ndarray of shape (n,)
+   with finite values, and p, the design parameters (float64 (n_p,); ignored when n_p = 0 — the
+   library is shared by every chain of the same structure, so the nominal values are the caller's),
+   and returns None for anything else (the Python caller then validates and reports).  Runs with
+   the GIL held, on stack buffers. */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
 #include <numpy/arrayobject.h>
 
-static const double* rmt_py_q(PyObject* o) {
+static const double* rmt_py_vec(PyObject* o, int n, int finite) {
   if (!PyArray_CheckExact(o)) return NULL;
   PyArrayObject* a = (PyArrayObject*)o;
-  if (PyArray_TYPE(a) != NPY_DOUBLE || PyArray_NDIM(a) != 1 || PyArray_DIM(a, 0) != RMT_N
+  if (PyArray_TYPE(a) != NPY_DOUBLE || PyArray_NDIM(a) != 1 || PyArray_DIM(a, 0) != n
       || !PyArray_ISCARRAY_RO(a) || PyArray_ISBYTESWAPPED(a)) return NULL;
-  const double* q = (const double*)PyArray_DATA(a);
-  for (int i = 0; i < RMT_N; ++i) if (!isfinite(q[i])) return NULL;
-  return q;
+  const double* v = (const double*)PyArray_DATA(a);
+  if (finite) for (int i = 0; i < n; ++i) if (!isfinite(v[i])) return NULL;
+  return v;
+}
+
+/* (q, p) of a call: q finite float64 (n,), p float64 (n_p,) (the caller's nominal parameters). */
+static int rmt_py_qp(PyObject* const* args, Py_ssize_t nargs, Py_ssize_t want_args, const double** q,
+                     const double** p) {
+  if (nargs != want_args) { PyErr_SetString(PyExc_TypeError, "wrong number of arguments"); return -1; }
+  *q = rmt_py_vec(args[0], RMT_N, 1);
+  *p = RMT_NP > 0 ? rmt_py_vec(args[1], RMT_NP, 0) : rmt_gp;
+  return (*q && *p) ? 1 : 0;
 }
 
 static PyObject* rmt_py_new(int rows, int cols) {
@@ -264,54 +280,53 @@ static PyObject* rmt_py_new(int rows, int cols) {
   return PyArray_SimpleNew(2, dims, NPY_DOUBLE);
 }
 
-static PyObject* rmt_py_fk(PyObject* self, PyObject* q_obj) {
-  const double* q = rmt_py_q(q_obj);
-  if (!q) Py_RETURN_NONE;
+#define RMT_PY_ARGS(k) const double *q, *p; int ok = rmt_py_qp(args, nargs, k, &q, &p); \
+  if (ok < 0) return NULL; if (!ok) Py_RETURN_NONE;
+
+static PyObject* rmt_py_fk(PyObject* self, PyObject* const* args, Py_ssize_t nargs) {
+  RMT_PY_ARGS(2)
   PyObject* T = rmt_py_new(4, 4);
   if (!T) return NULL;
-  rmt_one(q, rmt_gp, (double*)PyArray_DATA((PyArrayObject*)T), NULL, NULL, RMT_WANT_T);
+  rmt_one(q, p, (double*)PyArray_DATA((PyArrayObject*)T), NULL, NULL, RMT_WANT_T);
   return T;
 }
 
-static PyObject* rmt_py_jacobian(PyObject* self, PyObject* q_obj) {
-  const double* q = rmt_py_q(q_obj);
-  if (!q) Py_RETURN_NONE;
+static PyObject* rmt_py_jacobian(PyObject* self, PyObject* const* args, Py_ssize_t nargs) {
+  RMT_PY_ARGS(2)
   PyObject* J = rmt_py_new(6, RMT_N);
   if (!J) return NULL;
-  rmt_one(q, rmt_gp, NULL, (double*)PyArray_DATA((PyArrayObject*)J), NULL, RMT_WANT_J);
+  rmt_one(q, p, NULL, (double*)PyArray_DATA((PyArrayObject*)J), NULL, RMT_WANT_J);
   return J;
 }
 
-static PyObject* rmt_py_fk_jacobian(PyObject* self, PyObject* q_obj) {
-  const double* q = rmt_py_q(q_obj);
-  if (!q) Py_RETURN_NONE;
+static PyObject* rmt_py_fk_jacobian(PyObject* self, PyObject* const* args, Py_ssize_t nargs) {
+  RMT_PY_ARGS(2)
   PyObject* T = rmt_py_new(4, 4);
   PyObject* J = T ? rmt_py_new(6, RMT_N) : NULL;
   if (!J) { Py_XDECREF(T); return NULL; }
-  rmt_one(q, rmt_gp, (double*)PyArray_DATA((PyArrayObject*)T), (double*)PyArray_DATA((PyArrayObject*)J), NULL,
+  rmt_one(q, p, (double*)PyArray_DATA((PyArrayObject*)T), (double*)PyArray_DATA((PyArrayObject*)J), NULL,
           RMT_WANT_T | RMT_WANT_J);
   PyObject* res = PyTuple_Pack(2, T, J);
   Py_DECREF(T); Py_DECREF(J);
   return res;
 }
 
-/* measures(q, flags) -> (manipulability, sigma_min, condition, det) floats (NaN where not wanted) */
+/* measures(q, p, flags) -> (manipulability, sigma_min, condition, det) floats (NaN where not wanted) */
 static PyObject* rmt_py_measures(PyObject* self, PyObject* const* args, Py_ssize_t nargs) {
-  if (nargs != 2) { PyErr_SetString(PyExc_TypeError, "measures(q, flags)"); return NULL; }
-  const double* q = rmt_py_q(args[0]);
-  long flags = PyLong_AsLong(args[1]);
+  RMT_PY_ARGS(3)
+  long flags = PyLong_AsLong(args[2]);
   if (flags == -1 && PyErr_Occurred()) return NULL;
-  if (!q) Py_RETURN_NONE;
   double m[4] = { NAN, NAN, NAN, NAN };
-  rmt_one(q, rmt_gp, NULL, NULL, m, (int)flags & (RMT_WANT_MANIP | RMT_WANT_SIGMA));
+  rmt_one(q, p, NULL, NULL, m, (int)flags & (RMT_WANT_MANIP | RMT_WANT_SIGMA));
   return Py_BuildValue("(dddd)", m[0], m[1], m[2], m[3]);
 }
 
 static PyMethodDef rmt_py_methods[] = {
-  { "fk", rmt_py_fk, METH_O, "T (4, 4) of one configuration, or None" },
-  { "jacobian", rmt_py_jacobian, METH_O, "J (6, n) of one configuration, or None" },
-  { "fk_jacobian", rmt_py_fk_jacobian, METH_O, "(T, J) of one configuration, or None" },
-  { "measures", (PyCFunction)(void(*)(void))rmt_py_measures, METH_FASTCALL, "4 measures of one configuration, or None" },
+#define RMT_PY_FN(f) (PyCFunction)(void(*)(void))(f), METH_FASTCALL
+  { "fk", RMT_PY_FN(rmt_py_fk), "fk(q, p): T (4, 4) of one configuration, or None" },
+  { "jacobian", RMT_PY_FN(rmt_py_jacobian), "jacobian(q, p): J (6, n) of one configuration, or None" },
+  { "fk_jacobian", RMT_PY_FN(rmt_py_fk_jacobian), "fk_jacobian(q, p): (T, J) of one configuration, or None" },
+  { "measures", RMT_PY_FN(rmt_py_measures), "measures(q, p, flags): 4 measures of one configuration, or None" },
   { NULL, NULL, 0, NULL }
 };
 

@@ -179,7 +179,7 @@ def test_out_buffers_validated(backend):
 def test_thread_count_from_environment(monkeypatch):
     r = kin.load_robot("ur5e")
     ev = r.evaluator
-    Q = random_q(r.chain, 5000, 8)   # 313 blocks of 16: enough chunks for several threads
+    Q = random_q(r.chain, 20_000, 8)   # 4 threads' worth of work (at least 4096 configurations each)
     ref = r.evaluate(Q[:300], WANT_T | WANT_J | WANT_SIGMA)[0]
     for k in ("1", "2", "3"):
         monkeypatch.setenv("RMTKIT_THREADS", k)
@@ -187,7 +187,7 @@ def test_thread_count_from_environment(monkeypatch):
         assert ev.last_threads == int(k)
         np.testing.assert_array_equal(res["J"][:300], ref["J"])
         np.testing.assert_array_equal(res["measures"][:300], ref["measures"])
-    r.fk(Q[:20])
+    r.fk(Q[:8000])
     assert ev.last_threads == 1  # a small batch runs on the calling thread
     monkeypatch.delenv("RMTKIT_THREADS")
     assert default_threads() == len(os.sched_getaffinity(0))
@@ -219,18 +219,40 @@ def test_single_call_extension_matches_batch():
     Q = random_q(r.chain, 5, 3)
     T, J = r.fk_jacobian(Q)
     M = r.measures(Q)
+    p = r.evaluator.p_nominal
     for k, q in enumerate(Q):
-        Ts, Js = ext.fk_jacobian(q)
+        Ts, Js = ext.fk_jacobian(q, p)
         np.testing.assert_array_equal(Ts, T[k])
         np.testing.assert_array_equal(Js, J[k])
-        np.testing.assert_array_equal(ext.fk(q), T[k])
-        np.testing.assert_array_equal(ext.jacobian(q), J[k])
-        m = ext.measures(q, WANT_MANIP | WANT_SIGMA)
+        np.testing.assert_array_equal(ext.fk(q, p), T[k])
+        np.testing.assert_array_equal(ext.jacobian(q, p), J[k])
+        m = ext.measures(q, p, WANT_MANIP | WANT_SIGMA)
         np.testing.assert_allclose(m, [x[k] for x in M], rtol=1e-14, atol=1e-16)
     # anything but a finite float64 (n,) array is handed back to the validating Python path
     strided = np.repeat(Q[0], 2)[::2]
     for q in (list(Q[0]), Q[0].astype(np.float32), Q[:1], Q[0][:5], np.full(6, np.nan), strided, "q"):
-        assert ext.fk(q) is None and ext.fk_jacobian(q) is None and ext.measures(q, WANT_SIGMA) is None
+        assert ext.fk(q, p) is None and ext.fk_jacobian(q, p) is None and ext.measures(q, p, WANT_SIGMA) is None
+    with pytest.raises(TypeError):
+        ext.fk(Q[0])
+
+
+@pytest.mark.parametrize("extension", [True, False])
+def test_same_structure_different_nominal_parameters(extension):
+    """Chains that differ only in nominal parameter values share one library; each Robot's single
+    calls must still use its own values."""
+    base = kin.Chain(name="shared_lib", joints=(kin.Joint("revolute", a="L1"), kin.Joint("revolute", a=0.5)),
+                     parameters={"L1": kin.Parameter(1.0, (0.5, 2.0))})
+    robots = [kin.Robot(base), kin.Robot(base.with_parameters({"L1": 1.7}))]
+    assert robots[0].evaluator.path == robots[1].evaluator.path
+    if not extension:
+        for r in robots:
+            r.evaluator.single = None
+    q = np.array([0.3, 0.4])
+    for r, L1 in zip(robots * 2, (1.0, 1.7, 1.0, 1.7)):
+        expect = [L1 * math.cos(0.3) + 0.5 * math.cos(0.7), L1 * math.sin(0.3) + 0.5 * math.sin(0.7)]
+        np.testing.assert_allclose(r.fk(q)[:2, 3], expect, atol=1e-15)
+        np.testing.assert_allclose(r.fk_jacobian(q)[0][:2, 3], expect, atol=1e-15)
+        np.testing.assert_allclose(r.fk(q[None])[0, :2, 3], expect, atol=1e-15)
     np.testing.assert_allclose(r.fk(list(Q[0])), T[0], atol=1e-15)
 
 
