@@ -234,6 +234,7 @@ def test_single_call_extension_matches_batch():
         assert ext.fk(q, p) is None and ext.fk_jacobian(q, p) is None and ext.measures(q, p, WANT_SIGMA) is None
     with pytest.raises(TypeError):
         ext.fk(Q[0])
+    np.testing.assert_allclose(r.fk(list(Q[0])), T[0], atol=1e-15)
 
 
 @pytest.mark.parametrize("extension", [True, False])
@@ -253,7 +254,6 @@ def test_same_structure_different_nominal_parameters(extension):
         np.testing.assert_allclose(r.fk(q)[:2, 3], expect, atol=1e-15)
         np.testing.assert_allclose(r.fk_jacobian(q)[0][:2, 3], expect, atol=1e-15)
         np.testing.assert_allclose(r.fk(q[None])[0, :2, 3], expect, atol=1e-15)
-    np.testing.assert_allclose(r.fk(list(Q[0])), T[0], atol=1e-15)
 
 
 # ============================================================================ code generation
