@@ -170,7 +170,8 @@ def bench_single(robot, number: int, repeat: int) -> dict:
            "measures": _latency_us(lambda: robot.measures(q), number, repeat)}
     ext = getattr(robot.evaluator, "single", None)
     if ext is not None:  # the C call alone, for the wrapper's share of the latency
-        out["extension_fk_jacobian"] = _latency_us(lambda: ext.fk_jacobian(q), number, repeat)
+        p = robot.evaluator.p_nominal
+        out["extension_fk_jacobian"] = _latency_us(lambda: ext.fk_jacobian(q, p), number, repeat)
     return out
 
 
