@@ -39,7 +39,7 @@ from kin.errors import CompileError, SettingError
 COMMON_FLAGS = ["-O3", "-fPIC", "-shared", "-pthread", "-fopenmp-simd", "-fno-math-errno", "-ffp-contract=off",
                 "-std=gnu99"]
 ARCH_FLAGS = {"native": ["-march=native"], "portable": []}
-KERNEL_VERSION = "3-soa"
+KERNEL_VERSION = "4-soa"
 MAX_THREADS = 256
 
 

@@ -198,11 +198,11 @@ class CompiledEvaluator:
         self.arch = arch
         self.path = library_path(source, compiler, arch, self.sym.chain.name, directory, extra)
         self.cached = self.path.is_file()
+        if extra:  # the extension module is named after the file (a C identifier: rmt_<label>_<arch>_<key>)
+            extra = (*extra, f"-DRMT_PYEXT_NAME={self.path.stem}")
         if not self.cached:
             compile_library(source, compiler, arch, self.path, self.sym.chain.name, extra)
-        self.single = None
-        if extra:
-            self.single = _load_extension(self.path)
+        self.single = _load_extension(self.path) if extra else None
 
     #: the library as a Python extension module (``fk(q, p)``, ``jacobian(q, p)``,
     #: ``fk_jacobian(q, p)``, ``measures(q, p, want)``, p = :attr:`p_nominal`; see
@@ -251,16 +251,24 @@ class CompiledEvaluator:
         return self._eval_g(want)
 
 
+_EXTENSIONS: dict[str, object] = {}
+
+
 def _load_extension(path: Path):
-    """The library's ``rmt_single`` extension module (not entered in ``sys.modules``), or None."""
-    try:
-        loader = importlib.machinery.ExtensionFileLoader("rmt_single", str(path))
-        spec = importlib.util.spec_from_file_location("rmt_single", str(path), loader=loader)
-        module = importlib.util.module_from_spec(spec)
-        loader.exec_module(module)
-        return module
-    except ImportError:
-        return None
+    """The library's extension module (named ``path.stem``, not entered in ``sys.modules``), or
+    None.  Loaded once per file: CPython re-creates a single-phase module it has seen from a cached
+    copy, by name, which must never hand one library's functions to another."""
+    key = str(path)
+    if key not in _EXTENSIONS:
+        try:
+            loader = importlib.machinery.ExtensionFileLoader(path.stem, key)
+            spec = importlib.util.spec_from_file_location(path.stem, key, loader=loader)
+            module = importlib.util.module_from_spec(spec)
+            loader.exec_module(module)
+        except ImportError:
+            module = None
+        _EXTENSIONS[key] = module
+    return _EXTENSIONS[key]
 
 
 def make_evaluator(sym: SymbolicChain, backend: str = "auto") -> CompiledEvaluator | VMEvaluator:

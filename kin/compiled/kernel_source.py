@@ -25,7 +25,7 @@ blocking join — no spinning thread pool is left behind to compete with other p
 dynamic chunks keep a thread that the scheduler delays from holding up the call.
 
 The single-call path: compiled with ``RMT_PYEXT`` (Python and numpy headers found), the library is
-also a CPython extension module ``rmt_single`` whose functions take the configuration array and
+also a CPython extension module (named after the library file) whose functions take the configuration array and
 return new result arrays in one C call; ``rmt_eval_g`` (library-owned buffers, through ctypes) is
 the path without those headers.
 """
@@ -330,9 +330,15 @@ static PyMethodDef rmt_py_methods[] = {
   { NULL, NULL, 0, NULL }
 };
 
-static struct PyModuleDef rmt_py_module = { PyModuleDef_HEAD_INIT, "rmt_single", NULL, -1, rmt_py_methods };
+/* The module is named after the library file (RMT_PYEXT_NAME, set by the build): CPython keeps
+   single-phase extension modules by name, so two libraries must never share one. */
+#define RMT_CAT2(a, b) a##b
+#define RMT_CAT(a, b) RMT_CAT2(a, b)
+#define RMT_STR2(a) #a
+#define RMT_STR(a) RMT_STR2(a)
+static struct PyModuleDef rmt_py_module = { PyModuleDef_HEAD_INIT, RMT_STR(RMT_PYEXT_NAME), NULL, -1, rmt_py_methods };
 
-PyMODINIT_FUNC PyInit_rmt_single(void) {
+PyMODINIT_FUNC RMT_CAT(PyInit_, RMT_PYEXT_NAME)(void) {
   import_array();
   return PyModule_Create(&rmt_py_module);
 }

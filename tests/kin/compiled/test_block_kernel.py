@@ -294,3 +294,15 @@ def test_single_call_without_extension_uses_library_buffers():
     bad[2] = np.nan
     with pytest.raises(kin.ConfigurationError, match="joint 3"):
         r.fk(bad)
+
+
+def test_each_library_keeps_its_own_extension_module():
+    """Robots of different chains, each built twice (a second Robot of the same chain reloads the
+    same library), must each evaluate with their own library's functions."""
+    names = ["puma560", "solar_concentrator", "scara_rrp"]
+    robots = [kin.load_robot(n) for n in names for _ in range(2)]
+    for r in robots:
+        q = random_q(r.chain, 1, 21)[0]
+        np.testing.assert_allclose(r.fk(q), fk_numpy(r.chain, q), atol=1e-12)
+        if r.evaluator.single is not None:
+            assert r.evaluator.single.__name__ == r.evaluator.path.stem
