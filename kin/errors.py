@@ -46,3 +46,11 @@ class ParameterError(RmtError, ValueError):
 
 class CompileError(RmtError):
     """Generated C code failed to compile (the evaluator falls back to CasADi's VM)."""
+
+
+class OutBufferError(RmtError, ValueError):
+    """An ``out=`` buffer handed to a batch call has the wrong type, dtype, shape or layout."""
+
+
+class SettingError(RmtError, ValueError):
+    """An environment setting (``RMTKIT_THREADS``, ``RMTKIT_ARCH``) holds a value outside its allowed range."""

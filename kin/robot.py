@@ -13,10 +13,31 @@ from typing import Mapping, NamedTuple
 import numpy as np
 
 from kin.chain import Chain
-from kin.compiled import WANT_J, WANT_MANIP, WANT_SIGMA, WANT_T, CompiledEvaluator, make_evaluator
-from kin.errors import ParameterError
+from kin.compiled import (MEASURE_NAMES, WANT_J, WANT_MANIP, WANT_SIGMA, WANT_T, CompiledEvaluator, check_out,
+                          make_evaluator)
+from kin.errors import ConfigurationError, OutBufferError, ParameterError
 from kin.robotfile import load_chain
 from kin.symbolic import SymbolicChain
+
+
+MAX_RANDOM = 100_000_000  # random_configurations: at most this many rows (0.8·n GB)
+
+
+def real_array(x, what: str, error: type[Exception]) -> np.ndarray:
+    """``x`` as an array of real numbers (int or float dtype), else ``error`` naming ``what``.
+
+    Strings, complex numbers, booleans, None and ragged nestings are refused (numpy would turn "1.5"
+    into 1.5 and drop imaginary parts).  Shape and finiteness are the caller's to check.
+    """
+    if type(x) is not np.ndarray:
+        try:
+            x = np.asarray(x)
+        except (ValueError, TypeError) as e:
+            raise error(f"{what} is not an array of numbers ({e})") from None
+    if x.dtype.kind not in "fiu":
+        raise error(f"{what} must hold real numbers; got {x.dtype.name} values "
+                    f"(strings, complex numbers, booleans and objects are refused)")
+    return x
 
 
 class Measures(NamedTuple):
@@ -71,59 +92,108 @@ class Robot:
         return self.symbolic.task_rows
 
     # ---- core evaluation ----------------------------------------------------------------------
+    @cached_property
+    def _fast(self):
+        """The compiled single-configuration functions (``evaluator.single``), or None."""
+        return getattr(self.evaluator, "single", None)
+
     def _params(self, params, N: int) -> np.ndarray:
         if params is None:
             return self.chain.parameter_values
         if isinstance(params, Mapping):
+            for k, v in params.items():
+                if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, float, np.integer, np.floating)):
+                    raise ParameterError(f"design parameter {k!r} = {v!r} is not a real number")
             return self.chain.parameter_vector(params)
-        P = self.chain.parameter_vector(params)
+        P = self.chain.parameter_vector(real_array(params, "params", ParameterError))
         if P.ndim == 2 and P.shape[0] != N:
             raise ParameterError(f"parameter batch has {P.shape[0]} rows for {N} configurations")
         if P.ndim > 2:
             raise ParameterError(f"parameter array has shape {P.shape}; expected (n_p,) or (N, n_p)")
         return P
 
-    def evaluate(self, q, want: int, params=None) -> tuple[dict[str, np.ndarray], bool]:
-        """Low-level: evaluate the ``want`` bit-set (see :mod:`kin.compiled`) → (results, single)."""
-        Q, single = self.chain.as_batch(q)
-        return self.evaluator.evaluate(Q, self._params(params, len(Q)), want), single
+    def _batch(self, q) -> tuple[np.ndarray, bool]:
+        return self.chain.as_batch(real_array(q, "q", ConfigurationError))
 
-    def _single(self, q, want: int, outputs: str):
-        """Fast path for one configuration with nominal parameters; None when it does not apply."""
+    def evaluate(self, q, want: int, params=None, out: dict | None = None) -> tuple[dict[str, np.ndarray], bool]:
+        """Low-level: evaluate the ``want`` bit-set (see :mod:`kin.compiled`) → (results, single).
+
+        ``out``: arrays to fill, keyed as in :mod:`kin.compiled.evaluator` (batch shapes).
+        """
+        Q, single = self._batch(q)
+        return self.evaluator.evaluate(Q, self._params(params, len(Q)), want, out), single
+
+    def _one(self, q, name: str, want: int):
+        """Fast path for one configuration with nominal parameters (``name``: fk, jacobian,
+        fk_jacobian, measures); None when it does not apply and the validating batch path must run.
+
+        The compiled library's extension functions take q as it comes (anything but a finite float64
+        (n,) array gives None); without them, the library's buffers are used through ctypes.
+        """
+        f = self._fast
+        if f is not None:
+            p = self.evaluator.p_nominal
+            return f.measures(q, p, want) if name == "measures" else getattr(f, name)(q, p)
         ev = self.evaluator
-        if type(ev) is not CompiledEvaluator:
-            return None
-        arr = np.asarray(q, dtype=float)
-        if arr.shape != (self.n,):
+        if type(ev) is not CompiledEvaluator or type(q) is not np.ndarray or q.shape != (self.n,) \
+                or q.dtype.kind not in "fiu":
             return None
         with ev.lock:
-            if ev.one(arr, want):
-                self.chain.as_batch(arr)  # raises the ConfigurationError naming the joint
-            if outputs == "T":
+            if ev.one(q, want):
+                self.chain.as_batch(q)  # raises the ConfigurationError naming the joint
+            if name == "fk":
                 return ev.T1.copy()
-            if outputs == "J":
+            if name == "jacobian":
                 return ev.J1.copy()
-            if outputs == "TJ":
+            if name == "fk_jacobian":
                 return ev.T1.copy(), ev.J1.copy()
             return ev.m1.copy()
 
-    def fk(self, q, params=None) -> np.ndarray:
-        """Tool pose in the base frame: (4, 4) for q of shape (n,), (N, 4, 4) for a batch."""
-        if params is None and (out := self._single(q, WANT_T, "T")) is not None:
+    def _into(self, q, want: int, params, out: dict, shapes: dict[str, tuple[int, ...]]):
+        """Evaluate into the caller's ``out`` arrays; a single configuration's arrays have no batch axis."""
+        Q, single = self._batch(q)
+        view = {}
+        for k, arr in out.items():
+            shape = shapes[k] if single else (len(Q), *shapes[k])
+            check_out(arr, shape, k)
+            view[k] = arr.reshape(1, *shapes[k]) if single else arr
+        self.evaluator.evaluate(Q, self._params(params, len(Q)), want, view)
+
+    def fk(self, q, params=None, out: np.ndarray | None = None) -> np.ndarray:
+        """Tool pose in the base frame: (4, 4) for q of shape (n,), (N, 4, 4) for a batch.
+
+        ``out``: a float64 C-contiguous array of the result's shape to write into (returned).
+        """
+        if params is None and out is None and (T := self._one(q, "fk", WANT_T)) is not None:
+            return T
+        if out is not None:
+            self._into(q, WANT_T, params, {"T": out}, {"T": (4, 4)})
             return out
         res, single = self.evaluate(q, WANT_T, params)
         return res["T"][0] if single else res["T"]
 
-    def jacobian(self, q, params=None) -> np.ndarray:
-        """Geometric Jacobian (base frame, tool point; rows vx vy vz wx wy wz): (6, n) or (N, 6, n)."""
-        if params is None and (out := self._single(q, WANT_J, "J")) is not None:
+    def jacobian(self, q, params=None, out: np.ndarray | None = None) -> np.ndarray:
+        """Geometric Jacobian (base frame, tool point; rows vx vy vz wx wy wz): (6, n) or (N, 6, n).
+
+        ``out``: as in :meth:`fk`.
+        """
+        if params is None and out is None and (J := self._one(q, "jacobian", WANT_J)) is not None:
+            return J
+        if out is not None:
+            self._into(q, WANT_J, params, {"J": out}, {"J": (6, self.n)})
             return out
         res, single = self.evaluate(q, WANT_J, params)
         return res["J"][0] if single else res["J"]
 
-    def fk_jacobian(self, q, params=None) -> tuple[np.ndarray, np.ndarray]:
-        """(T, J) in one evaluation; shapes as :meth:`fk` and :meth:`jacobian`."""
-        if params is None and (out := self._single(q, WANT_T | WANT_J, "TJ")) is not None:
+    def fk_jacobian(self, q, params=None, out: tuple[np.ndarray, np.ndarray] | None = None
+                    ) -> tuple[np.ndarray, np.ndarray]:
+        """(T, J) in one evaluation; shapes as :meth:`fk` and :meth:`jacobian`; ``out`` a pair of arrays."""
+        if params is None and out is None and (TJ := self._one(q, "fk_jacobian", WANT_T | WANT_J)) is not None:
+            return TJ
+        if out is not None:
+            if not isinstance(out, tuple) or len(out) != 2:
+                raise OutBufferError("out must be a pair (T, J) of arrays")
+            self._into(q, WANT_T | WANT_J, params, {"T": out[0], "J": out[1]}, {"T": (4, 4), "J": (6, self.n)})
             return out
         res, single = self.evaluate(q, WANT_T | WANT_J, params)
         return (res["T"][0], res["J"][0]) if single else (res["T"], res["J"])
@@ -132,50 +202,65 @@ class Robot:
         """The three position rows of :meth:`jacobian`: (3, n) or (N, 3, n)."""
         return self.jacobian(q, params)[..., :3, :]
 
-    def measures(self, q, params=None) -> Measures:
-        """Manipulability, σ_min, condition number and det of the task Jacobian."""
-        if params is None and (m := self._single(q, WANT_MANIP | WANT_SIGMA, "m")) is not None:
+    def measures(self, q, params=None, out: np.ndarray | None = None) -> Measures:
+        """Manipulability, σ_min, condition number and det of the task Jacobian.
+
+        ``out``: a float64 (N, 4) array for a batch (columns in :class:`Measures` order), filled and
+        viewed by the returned arrays.
+        """
+        want = WANT_MANIP | WANT_SIGMA
+        if params is None and out is None and (m := self._one(q, "measures", want)) is not None:
             return Measures(*(float(x) for x in m))
-        res, single = self.evaluate(q, WANT_MANIP | WANT_SIGMA, params)
+        if out is not None:
+            self._into(q, want, params, {"measures": out}, {"measures": (4,)})
+            return Measures(*(float(x) for x in out)) if out.ndim == 1 else Measures(*out.T)
+        res, single = self.evaluate(q, want, params)
         M = res["measures"]
         return Measures(*(float(x) for x in M[0])) if single else Measures(*M.T.copy())
 
-    def _measure(self, q, params, col: int, want: int):
-        if params is None and (m := self._single(q, want, "m")) is not None:
+    def _measure(self, q, params, col: int, want: int, out):
+        if params is None and out is None and (m := self._one(q, "measures", want)) is not None:
             return float(m[col])
+        name = MEASURE_NAMES[col]
+        if out is not None:
+            self._into(q, want, params, {name: out}, {name: ()})
+            return float(out) if out.ndim == 0 else out
         res, single = self.evaluate(q, want, params)
         m = res["measures"][:, col]
         return float(m[0]) if single else m
 
-    def manipulability(self, q, params=None):
-        """Yoshikawa manipulability √det(Jt·Jtᵀ) of the task Jacobian: float or (N,)."""
-        return self._measure(q, params, 0, WANT_MANIP)
+    def manipulability(self, q, params=None, out: np.ndarray | None = None):
+        """Yoshikawa manipulability √det(Jt·Jtᵀ) of the task Jacobian: float or (N,); ``out`` (N,) to fill."""
+        return self._measure(q, params, 0, WANT_MANIP, out)
 
-    def sigma_min(self, q, params=None):
-        """Smallest singular value of the task Jacobian: float or (N,)."""
-        return self._measure(q, params, 1, WANT_SIGMA)
+    def sigma_min(self, q, params=None, out: np.ndarray | None = None):
+        """Smallest singular value of the task Jacobian: float or (N,); ``out`` (N,) to fill."""
+        return self._measure(q, params, 1, WANT_SIGMA, out)
 
-    def condition(self, q, params=None):
+    def condition(self, q, params=None, out: np.ndarray | None = None):
         """Condition number σ_max/σ_min of the task Jacobian (inf when singular): float or (N,)."""
-        return self._measure(q, params, 2, WANT_SIGMA)
+        return self._measure(q, params, 2, WANT_SIGMA, out)
 
-    def det(self, q, params=None):
+    def det(self, q, params=None, out: np.ndarray | None = None):
         """det of the task Jacobian when it is square (NaN otherwise): float or (N,)."""
-        return self._measure(q, params, 3, WANT_MANIP)
+        return self._measure(q, params, 3, WANT_MANIP, out)
 
     # ---- limits -------------------------------------------------------------------------------
     def within_limits(self, q, tol: float = 0.0):
         """True where q is inside the joint limits: bool or (N,) bool."""
-        return self.chain.within_limits(q, tol)
+        return self.chain.within_limits(real_array(q, "q", ConfigurationError), tol)
 
     def check_limits(self, q) -> None:
         """Raise :class:`~kin.errors.JointLimitError` naming the first joint out of its limits."""
-        self.chain.check_limits(q)
+        self.chain.check_limits(real_array(q, "q", ConfigurationError))
 
     def random_configurations(self, N: int, seed: int = 0) -> np.ndarray:
-        """N configurations uniform within the joint limits, shape (N, n)."""
+        """N configurations uniform within the joint limits, shape (N, n); N in 0..1e8, seed ≥ 0."""
+        for name, v, hi in (("N", N, MAX_RANDOM), ("seed", seed, 2**63 - 1)):
+            if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, np.integer)) or not 0 <= v <= hi:
+                raise ConfigurationError(f"random_configurations: {name} = {v!r}; allowed: an integer 0..{hi}")
         rng = np.random.default_rng(seed)
-        return rng.uniform(self.chain.lower, self.chain.upper, size=(N, self.n))
+        return rng.uniform(self.chain.lower, self.chain.upper, size=(int(N), self.n))
 
     # ---- inverse kinematics -------------------------------------------------------------------
     def ik(self, T, seed: int = 0, **options):

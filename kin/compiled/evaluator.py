@@ -1,27 +1,24 @@
-"""Fast evaluators: CasADi-generated C compiled once, cached on disk, called through ctypes.
+"""Fast evaluators: a generated C kernel compiled once and cached on disk, called through ctypes.
 
-:class:`CompiledEvaluator` compiles the chain's ``fkj`` function together with the batch kernel of
-:mod:`kin.compiled.kernel_source` into a shared library.  The library is cached under
-``$RMTKIT_CACHE`` (default ``~/.cache/rmtkit``) by a hash of the generated source and compiler
-flags, so a second start only loads it.  Without a working C compiler (or with
-``RMTKIT_CC=none``) :func:`make_evaluator` returns a :class:`VMEvaluator`, which runs the same
-CasADi functions in CasADi's virtual machine and computes the measures with numpy; both give the
-same numbers.
+:class:`CompiledEvaluator` writes the chain's FK/Jacobian graph lane by lane
+(:mod:`kin.compiled.graph_c`) into the block kernel of :mod:`kin.compiled.kernel_source` and builds
+it as described in :mod:`kin.compiled.build` (native or portable flags, cache, threads).  Without a
+working C compiler (or with ``RMTKIT_CC=none``) :func:`make_evaluator` returns a
+:class:`VMEvaluator`, which runs the same CasADi function in CasADi's virtual machine and computes
+the measures with numpy; both give the same numbers.
 
-All evaluators share one interface: ``evaluate(Q, P, want)`` with Q (N, n), P (n_p,) or (N, n_p)
-returns a dict with any of ``T`` (N, 4, 4), ``J`` (N, 6, n), ``measures`` (N, 4) — columns
-manipulability, σ_min, condition number, det (NaN for a non-square task Jacobian).
+All evaluators share one interface: ``evaluate(Q, P, want, out=None)`` with Q (N, n), P (n_p,) or
+(N, n_p) returns a dict with any of ``T`` (N, 4, 4), ``J`` (N, 6, n), ``measures`` (N, 4) — columns
+manipulability, σ_min, condition number, det (NaN for a non-square task Jacobian).  ``out`` may hand
+in the arrays to fill: ``T``, ``J``, ``measures``, or single measure columns ``manipulability``,
+``sigma_min``, ``condition``, ``det`` (N,) — float64, C-contiguous, writeable, of exactly that shape
+(:class:`~kin.errors.OutBufferError` otherwise).
 """
 from __future__ import annotations
 
 import ctypes
-import hashlib
-import os
-import re
-import shutil
-import subprocess
-import sys
-import tempfile
+import importlib.machinery
+import importlib.util
 import threading
 import warnings
 from pathlib import Path
@@ -29,34 +26,51 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 
-from kin.errors import CompileError
-from kin.compiled.kernel_source import KERNEL_TEMPLATE
+from kin.compiled.build import (cache_dir, compile_library, default_threads, find_compiler, library_path,
+                                python_extension_flags, requested_arch)
+from kin.compiled.graph_c import graph_block_c
+from kin.compiled.kernel_source import kernel_source
+from kin.errors import CompileError, OutBufferError
 from kin.symbolic import SymbolicChain
 
 WANT_T, WANT_J, WANT_MANIP, WANT_SIGMA = 1, 2, 4, 8
 WANT_ALL = WANT_T | WANT_J | WANT_MANIP | WANT_SIGMA
-CFLAGS = ["-O3", "-fPIC", "-shared", "-fopenmp", "-fno-math-errno", "-std=c99"]
-KERNEL_VERSION = "2"
+MEASURE_NAMES = ("manipulability", "sigma_min", "condition", "det")
+_MEASURE_WANT = (WANT_MANIP, WANT_SIGMA, WANT_SIGMA, WANT_MANIP)
 
 
-def cache_dir() -> Path:
-    """Directory of compiled libraries: ``$RMTKIT_CACHE`` or ``$XDG_CACHE_HOME/rmtkit`` or ``~/.cache/rmtkit``."""
-    env = os.environ.get("RMTKIT_CACHE")
-    if env:
-        return Path(env)
-    xdg = os.environ.get("XDG_CACHE_HOME")
-    return (Path(xdg) if xdg else Path.home() / ".cache") / "rmtkit"
+def check_out(arr, shape: tuple[int, ...], name: str) -> np.ndarray:
+    """``arr`` if it is a writeable C-contiguous float64 ndarray of ``shape``, else :class:`OutBufferError`."""
+    if type(arr) is not np.ndarray:
+        raise OutBufferError(f"out[{name!r}] is a {type(arr).__name__}; expected a numpy float64 array of shape {shape}")
+    if arr.dtype != np.float64 or arr.shape != shape:
+        raise OutBufferError(f"out[{name!r}] has dtype {arr.dtype} and shape {arr.shape}; expected float64 {shape}")
+    if not arr.flags.c_contiguous or not arr.flags.writeable:
+        raise OutBufferError(f"out[{name!r}] must be C-contiguous and writeable")
+    return arr
 
 
-def find_compiler() -> str | None:
-    """The C compiler to use: ``$RMTKIT_CC`` (``none`` disables compiling), else ``$CC``, cc, gcc, clang."""
-    env = os.environ.get("RMTKIT_CC")
-    if env is not None:
-        return None if env.strip().lower() in ("", "none", "0", "false") else shutil.which(env)
-    for cand in (os.environ.get("CC"), "cc", "gcc", "clang"):
-        if cand and shutil.which(cand):
-            return shutil.which(cand)
-    return None
+def output_arrays(N: int, n: int, want: int, out: dict | None) -> dict[str, np.ndarray]:
+    """The arrays a call with ``want`` fills: the validated ``out`` entries, the rest newly allocated."""
+    out = dict(out or {})
+    unknown = set(out) - {"T", "J", "measures", *MEASURE_NAMES}
+    if unknown:
+        raise OutBufferError(f"out has unknown key(s) {sorted(unknown)}; allowed: T, J, measures, "
+                          + ", ".join(MEASURE_NAMES))
+    res: dict[str, np.ndarray] = {}
+    if want & WANT_T:
+        res["T"] = check_out(out["T"], (N, 4, 4), "T") if "T" in out else np.empty((N, 4, 4))
+    if want & WANT_J:
+        res["J"] = check_out(out["J"], (N, 6, n), "J") if "J" in out else np.empty((N, 6, n))
+    cols = [k for k in MEASURE_NAMES if k in out]
+    if cols and "measures" in out:
+        raise OutBufferError("out holds both 'measures' and single measure columns; give one or the other")
+    for k in cols:
+        res[k] = check_out(out[k], (N,), k)
+    if want & (WANT_MANIP | WANT_SIGMA) and not cols:
+        res["measures"] = check_out(out["measures"], (N, 4), "measures") if "measures" in out else np.empty((N, 4))
+        res["measures"].fill(np.nan)
+    return res
 
 
 class VMEvaluator:
@@ -76,10 +90,11 @@ class VMEvaluator:
             self._maps[N] = self._f.map(N, "serial")
         return self._maps[N]
 
-    def evaluate(self, Q: np.ndarray, P: np.ndarray, want: int = WANT_ALL) -> dict[str, np.ndarray]:
+    def evaluate(self, Q: np.ndarray, P: np.ndarray, want: int = WANT_ALL, out: dict | None = None
+                 ) -> dict[str, np.ndarray]:
         N, n = Q.shape
+        res = output_arrays(N, n, want, out)
         chunk = 4096
-        Ts, Js = [], []
         for s in range(0, N, chunk):
             q = Q[s:s + chunk]
             k = len(q)
@@ -91,17 +106,19 @@ class VMEvaluator:
                 q = np.vstack([q, np.repeat(q[-1:], m - k, axis=0)])
                 p = np.vstack([p, np.repeat(p[-1:], m - k, axis=0)])
             T, J = self._mapped(m)(q.T, p.T)
-            Ts.append(np.asarray(T).reshape(4, m, 4).transpose(1, 0, 2)[:k])
-            Js.append(np.asarray(J).reshape(6, m, n).transpose(1, 0, 2)[:k])
-        out: dict[str, np.ndarray] = {}
-        J = np.concatenate(Js) if Js else np.zeros((0, 6, n))
-        if want & WANT_T:
-            out["T"] = np.concatenate(Ts) if Ts else np.zeros((0, 4, 4))
-        if want & WANT_J:
-            out["J"] = J
-        if want & (WANT_MANIP | WANT_SIGMA):
-            out["measures"] = numpy_measures(J[:, self.rows, :])
-        return out
+            J = np.asarray(J).reshape(6, m, n).transpose(1, 0, 2)[:k]
+            if "T" in res:
+                res["T"][s:s + k] = np.asarray(T).reshape(4, m, 4).transpose(1, 0, 2)[:k]
+            if "J" in res:
+                res["J"][s:s + k] = J
+            if want & (WANT_MANIP | WANT_SIGMA):
+                M = numpy_measures(J[:, self.rows, :])
+                for c, name in enumerate(MEASURE_NAMES):
+                    if "measures" in res and want & _MEASURE_WANT[c]:
+                        res["measures"][s:s + k, c] = M[:, c]
+                    elif name in res:
+                        res[name][s:s + k] = M[:, c]
+        return res
 
 
 def numpy_measures(Jt: np.ndarray) -> np.ndarray:
@@ -127,30 +144,40 @@ def numpy_measures(Jt: np.ndarray) -> np.ndarray:
 
 
 class CompiledEvaluator:
-    """Evaluates through a compiled shared library (see module docstring)."""
+    """Evaluates through a compiled shared library (see module docstring).
+
+    ``arch``: ``"native"`` or ``"portable"`` (default ``RMTKIT_ARCH``, else native); a native
+    build the compiler rejects becomes a portable one (:attr:`arch` says which was built).
+    ``threads``: threads of a batch call; ``None`` reads ``RMTKIT_THREADS`` / the CPU affinity
+    at each call.  :attr:`last_threads` is how many the last batch call ran.
+    """
 
     backend = "compiled"
 
-    def __init__(self, sym: SymbolicChain, compiler: str, directory: Path | None = None):
+    def __init__(self, sym: SymbolicChain, compiler: str, directory: Path | None = None, arch: str | None = None,
+                 block: int = 16):
         self.sym = sym
         self.n = sym.n
         self.n_p = sym.p.shape[0]
-        source = self.source()
-        key = hashlib.sha256("\0".join([source, compiler, " ".join(CFLAGS), KERNEL_VERSION, ca.__version__,
-                                        sys.platform]).encode()).hexdigest()[:20]
+        self.threads: int | None = None
+        self.last_threads = 0
+        source = self.source(block)
         directory = directory or cache_dir()
-        # the chain name only labels the file (the key identifies it); a programmatic Chain may have any name
-        label = re.sub(r"[^A-Za-z0-9_]", "_", sym.chain.name)[:40]
-        self.path = directory / f"rmt_{label}_{key}.so"
-        self.cached = self.path.is_file()
-        if not self.cached:
-            self._compile(source, compiler, directory)
+        arch = arch or requested_arch()
+        builds = [(a, x) for a in dict.fromkeys([arch, "portable"]) for x in dict.fromkeys([python_extension_flags(), ()])]
+        for k, (a, extra) in enumerate(builds):
+            try:
+                self._build(source, compiler, a, directory, extra)
+                break
+            except CompileError:
+                if k == len(builds) - 1:
+                    raise
         # the batch entry releases the GIL (CDLL); the single-configuration entry keeps it (PyDLL),
         # which is cheaper per call and, with the lock, keeps the shared buffers consistent
         self._lib = ctypes.CDLL(str(self.path))
         f = self._lib.rmt_eval
-        f.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_longlong, ctypes.c_longlong, ctypes.c_void_p,
-                      ctypes.c_void_p, ctypes.c_void_p, ctypes.c_int, ctypes.c_int]
+        vp, ll = ctypes.c_void_p, ctypes.c_longlong
+        f.argtypes = [vp, vp, ll, ll, vp, vp, vp, vp, vp, vp, ll, ctypes.c_int, ctypes.c_int]
         f.restype = ctypes.c_int
         self._eval = f
         pylib = ctypes.PyDLL(str(self.path))
@@ -163,37 +190,34 @@ class CompiledEvaluator:
         self.T1 = buf("rmt_gT", 16).reshape(4, 4)
         self.J1 = buf("rmt_gJ", 6 * self.n).reshape(6, self.n)
         self.m1 = buf("rmt_gm", 4)
-        if self.n_p:
-            self.p1[:] = sym.chain.parameter_values
+        #: nominal design parameters, float64 (n_p,) (the single-call paths' parameters)
+        self.p_nominal = np.ascontiguousarray(sym.chain.parameter_values, dtype=float)
         self.lock = threading.Lock()
-        self.threads = int(os.environ.get("RMTKIT_THREADS", "0"))
 
-    def source(self) -> str:
-        """C source: CasADi's generated ``fkj`` plus the batch kernel."""
+    def _build(self, source: str, compiler: str, arch: str, directory: Path, extra: tuple[str, ...]) -> None:
+        self.arch = arch
+        self.path = library_path(source, compiler, arch, self.sym.chain.name, directory, extra)
+        self.cached = self.path.is_file()
+        if extra:  # the extension module is named after the file (a C identifier: rmt_<label>_<arch>_<key>)
+            extra = (*extra, f"-DRMT_PYEXT_NAME={self.path.stem}")
+        if not self.cached:
+            compile_library(source, compiler, arch, self.path, self.sym.chain.name, extra)
+        self.single = _load_extension(self.path) if extra else None
+
+    #: the library as a Python extension module (``fk(q, p)``, ``jacobian(q, p)``,
+    #: ``fk_jacobian(q, p)``, ``measures(q, p, want)``, p = :attr:`p_nominal`; see
+    #: :mod:`kin.compiled.kernel_source`), or None when built without it
+    single = None
+
+    def source(self, block: int = 16) -> str:
+        """C source: the chain's graph written lane by lane inside the block kernel."""
         f = self.sym.fkj_cs_function
-        cg = ca.CodeGenerator("rmt_kernel.c", {"with_header": False, "casadi_real": "double",
-                                                "casadi_int": "long long int"})
-        cg.add(f)
-        rows = self.sym.task_rows
-        kernel = KERNEL_TEMPLATE.format(n=self.n, m=len(rows), np_=self.n_p, sz_w=f.sz_w(), sz_iw=f.sz_iw(),
-                                        sz_arg=max(f.sz_arg(), 2), sz_res=max(f.sz_res(), 2),
-                                        rows=", ".join(str(r) for r in rows))
-        return "#ifdef _OPENMP\n#include <omp.h>\n#endif\n" + cg.dump() + kernel
+        graph = graph_block_c(f, "rmt_graph", ["c", "s", "q", "p"], ["T", "J"])
+        revolute = tuple(j.is_revolute for j in self.sym.chain.joints)
+        return kernel_source(self.n, len(self.sym.task_rows), self.n_p, self.sym.task_rows, revolute, graph, block)
 
-    def _compile(self, source: str, compiler: str, directory: Path) -> None:
-        directory.mkdir(parents=True, exist_ok=True)
-        with tempfile.TemporaryDirectory(dir=directory) as tmp:
-            c_file = Path(tmp) / "kernel.c"
-            c_file.write_text(source)
-            so = Path(tmp) / "kernel.so"
-            proc = subprocess.run([compiler, *CFLAGS, str(c_file), "-o", str(so), "-lm"],
-                                  capture_output=True, text=True)
-            if proc.returncode != 0:
-                raise CompileError(f"{compiler} failed on the generated kernel of {self.sym.chain.name}: "
-                                   f"{proc.stderr.strip().splitlines()[-1] if proc.stderr.strip() else proc.returncode}")
-            os.replace(so, self.path)  # atomic: a concurrent reader sees the old file or the whole new one
-
-    def evaluate(self, Q: np.ndarray, P: np.ndarray, want: int = WANT_ALL) -> dict[str, np.ndarray]:
+    def evaluate(self, Q: np.ndarray, P: np.ndarray, want: int = WANT_ALL, out: dict | None = None
+                 ) -> dict[str, np.ndarray]:
         N = Q.shape[0]
         Q = np.ascontiguousarray(Q, dtype=float)
         if self.n_p == 0:
@@ -201,28 +225,50 @@ class CompiledEvaluator:
         else:
             P = np.ascontiguousarray(P, dtype=float)
             pstride = 0 if P.ndim == 1 else self.n_p
-        out: dict[str, np.ndarray] = {}
-        T = np.empty((N, 4, 4)) if want & WANT_T else None
-        J = np.empty((N, 6, self.n)) if want & WANT_J else None
-        M = np.full((N, 4), np.nan) if want & (WANT_MANIP | WANT_SIGMA) else None
-        self._eval(Q.ctypes.data, P.ctypes.data, N, pstride, None if T is None else T.ctypes.data,
-                   None if J is None else J.ctypes.data, None if M is None else M.ctypes.data, want, self.threads)
-        if T is not None:
-            out["T"] = T
-        if J is not None:
-            out["J"] = J
-        if M is not None:
-            out["measures"] = M
-        return out
+        res = output_arrays(N, self.n, want, out)
+        ptr = lambda k: res[k].ctypes.data if k in res else None
+        if "measures" in res:
+            base = res["measures"].ctypes.data
+            m = [base + 8 * c if want & _MEASURE_WANT[c] else None for c in range(4)]
+            mstride = 4
+        else:
+            m = [ptr(k) if want & _MEASURE_WANT[c] else None for c, k in enumerate(MEASURE_NAMES)]
+            mstride = 1
+        threads = self.threads if self.threads is not None else default_threads()
+        self.last_threads = self._eval(Q.ctypes.data, P.ctypes.data, N, pstride, ptr("T"), ptr("J"), *m, mstride,
+                                       want, threads)
+        return res
 
     def one(self, q, want: int) -> int:
-        """Single configuration, nominal parameters, into the library's buffers ``T1 J1 m1``.
+        """Single configuration, parameters :attr:`p_nominal`, into the library's buffers ``T1 J1 m1``.
 
         Call with :attr:`lock` held and copy the results out before releasing it.  Returns 0, or
         −(1 + i) when joint i of ``q`` is not finite.
         """
         self.q1[:] = q
+        if self.n_p:  # the library is shared by chains of the same structure: parameters each call
+            self.p1[:] = self.p_nominal
         return self._eval_g(want)
+
+
+_EXTENSIONS: dict[str, object] = {}
+
+
+def _load_extension(path: Path):
+    """The library's extension module (named ``path.stem``, not entered in ``sys.modules``), or
+    None.  Loaded once per file: CPython re-creates a single-phase module it has seen from a cached
+    copy, by name, which must never hand one library's functions to another."""
+    key = str(path)
+    if key not in _EXTENSIONS:
+        try:
+            loader = importlib.machinery.ExtensionFileLoader(path.stem, key)
+            spec = importlib.util.spec_from_file_location(path.stem, key, loader=loader)
+            module = importlib.util.module_from_spec(spec)
+            loader.exec_module(module)
+        except ImportError:
+            module = None
+        _EXTENSIONS[key] = module
+    return _EXTENSIONS[key]
 
 
 def make_evaluator(sym: SymbolicChain, backend: str = "auto") -> CompiledEvaluator | VMEvaluator:

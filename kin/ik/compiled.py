@@ -24,14 +24,12 @@ import casadi as ca
 import numpy as np
 
 from kin.compiled import cache_dir, find_compiler
-from kin.compiled.evaluator import CFLAGS
 from kin.errors import CompileError
 from kin.ik.kernel_source import IK_TEMPLATE
 from kin.ik.numeric import _length_scale
 
-# threads wait passively between parallel regions (the machine is shared); libgomp reads this when it
-# is first loaded, so it only helps when the OpenMP runtime is not yet running in this process
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+#: the IK library's build flags (OpenMP across targets)
+CFLAGS = ["-O3", "-fPIC", "-shared", "-fopenmp", "-fno-math-errno", "-std=c99"]
 
 IK_VERSION = "1"
 _dbl = ctypes.c_double

@@ -13,40 +13,56 @@ def _fmt_rate(x: float) -> str:
     return f"{x / 1e6:8.3f} M/s"
 
 
+def _load_note(d: dict) -> str:
+    share = d.get("foreign_cpu_share")
+    txt = (f"other processes {share * 100:.0f} % of the CPUs" if share is not None
+           else f"load average {d['loadavg_1min_before']:.2f}")
+    return txt if d["reliable"] else f"UNRELIABLE: {txt}"
+
+
+def _rates(st: dict) -> str:
+    return f"{_fmt_rate(st['best_cfg_per_s'])} / {_fmt_rate(st['median_cfg_per_s'])}"
+
+
 def format_report(R: dict) -> str:
     L = []
     env = R["environment"]
-    L.append(f"bench_kin — {R['robot']} ({env['backend']} backend; {env['cpu_count']} CPUs; "
+    L.append(f"bench_kin — {R['robot']} ({env['backend']} backend, {env['arch']} build, single-call extension "
+             f"{env['single_call_extension']}; {env['cpu_count']} CPUs, {env['threads_all']} usable; "
              f"RMTKIT_THREADS={env['RMTKIT_THREADS']}; python {env['python']}, numpy {env['numpy']}, "
              f"casadi {env['casadi']}){' [quick]' if R['quick'] else ''}")
-    L.append(f"load average (1 min) before / after: {env['loadavg_1min_before']:.2f} / {env['loadavg_1min_after']:.2f}"
-             " — other processes on the machine distort every timing below")
+    L.append(f"machine load over the whole run: {_load_note(env['load'])}; load average before / after "
+             f"{env['load']['loadavg_1min_before']:.2f} / {env['load']['loadavg_1min_after']:.2f}")
+    if env["unreliable_sections"]:
+        L.append("UNRELIABLE figures (other processes took > 10 % of the CPUs meanwhile): "
+                 + ", ".join(env["unreliable_sections"]))
     L.append("")
     L.append("1. batch FK + J(6x6) + manipulability, configurations/s (best / median)")
-    for N, rec in R["batch"]["sizes"].items():
-        pa = rec["public_alloc"]
-        L.append(f"   N={int(N):>9,d}  robot.evaluate(Q, T|J|MANIP), allocates outputs : "
-                 f"{_fmt_rate(pa['best_cfg_per_s'])} / {_fmt_rate(pa['median_cfg_per_s'])}  ({pa['repeats']} runs)")
-        if "kernel_prealloc" in rec:
-            kp = rec["kernel_prealloc"]
-            L.append(f"   N={int(N):>9,d}  kernel into preallocated buffers (private entry) : "
-                     f"{_fmt_rate(kp['best_cfg_per_s'])} / {_fmt_rate(kp['median_cfg_per_s'])}"
-                     f"  (same numbers: {kp['matches_public']})")
-            L.append(f"   {'':13s}  alloc + first touch of outputs alone {rec['alloc_first_touch_s'] * 1e3:7.1f} ms; "
-                     f"input check (as_batch) {rec['as_batch_check_s'] * 1e3:6.1f} ms; "
-                     f"public median {pa['median_s'] * 1e3:7.1f} ms vs kernel {kp['median_s'] * 1e3:7.1f} ms")
-    v = R["batch_variants_100000"]
-    L.append("   N=  100,000  public call, other outputs (median): " +
-             ", ".join(f"{k} {_fmt_rate(s['median_cfg_per_s']).strip()}" for k, s in v.items()))
+    for th, rec in R["batch"]["threads"].items():
+        L.append(f"   {th} thread(s)  [{_load_note(rec['load'])}]")
+        for N, r in rec.items():
+            if N == "load":
+                continue
+            L.append(f"     N={int(N):>9,d}  allocating outputs {_rates(r['alloc'])}   into out= {_rates(r['out'])}"
+                     f"   ({r['threads_ran']} ran)")
+            if "sigma_min_out" in r:
+                L.append(f"     N={int(N):>9,d}  sigma_min alone, into out= {_rates(r['sigma_min_out'])}")
+    L.append("")
+    ld = R["loaded"]
+    L.append(f"2. loaded: a second process spinning on one CPU (bounded {ld['busy_process_bound_s']:g} s, "
+             f"still running at the end: {ld['busy_process_still_running']}); FK+J+manip into out= (best / median)")
+    for N, rec in ld["sizes"].items():
+        L.append(f"     N={int(N):>9,d}  " + "   ".join(f"{th} thread(s) {_rates(st)}" for th, st in rec.items()))
     L.append("")
     s = R["single"]
-    L.append("2. single call, µs (best / median)")
-    for k, lab in (("fk_jacobian", "robot.fk_jacobian(q)"), ("fk", "robot.fk(q)"),
-                   ("kernel_one_T|J", "evaluator.one(q, T|J) (C call only)")):
+    L.append(f"3. single call, µs (best / median)  [{_load_note(s['load'])}]")
+    for k, lab in (("fk_jacobian", "robot.fk_jacobian(q)"), ("fk", "robot.fk(q)"), ("jacobian", "robot.jacobian(q)"),
+                   ("measures", "robot.measures(q)"), ("extension_fk_jacobian", "evaluator.single.fk_jacobian(q) (C)")):
         if k in s:
-            L.append(f"   {lab:38s} {s[k]['best_us']:7.2f} / {s[k]['median_us']:7.2f}   ({s[k]['calls']} calls x {s[k]['repeats']})")
+            L.append(f"   {lab:38s} {s[k]['best_us']:7.3f} / {s[k]['median_us']:7.3f}   "
+                     f"({s[k]['calls']} calls x {s[k]['repeats']})")
     L.append("")
-    L.append("3. start-up, s (inside a fresh subprocess, after imports; fresh RMTKIT_CACHE)")
+    L.append("4. start-up, s (inside a fresh subprocess, after imports; fresh RMTKIT_CACHE)")
     for k in ("cold", "warm"):
         r = R["startup"][k]
         L.append(f"   {k:4s} total {r['total_s']:7.3f}  = load_chain {r['load_chain_s']:.3f} + symbolic "
@@ -56,35 +72,27 @@ def format_report(R: dict) -> str:
         if "codegen_again_s" in r:
             L.append(f"        (C code generation + hashing alone, re-run afterwards: {r['codegen_again_s']:.3f})")
     L.append("")
-    L.append("4. peers")
-    p = R["peers"]
-    if "skipped" in p["pinocchio"]:
-        L.append(f"   pinocchio: skipped — {p['pinocchio']['skipped']}")
-    else:
-        pp = p["pinocchio"]
-        L.append(f"   pinocchio {pp['version']}, Python loop over {pp['configs']:,d} configurations (best / median):")
-        L.append(f"     FK + frame Jacobian + |det J|  {_fmt_rate(pp['loop_fk_j_manip']['best_cfg_per_s'])} / "
-                 f"{_fmt_rate(pp['loop_fk_j_manip']['median_cfg_per_s'])}")
-        L.append(f"     FK + frame Jacobian            {_fmt_rate(pp['loop_fk_j']['best_cfg_per_s'])} / "
-                 f"{_fmt_rate(pp['loop_fk_j']['median_cfg_per_s'])}")
-        L.append(f"     single FK + J call, µs         {pp['single_fk_j']['best_us']:7.2f} / {pp['single_fk_j']['median_us']:7.2f}")
-    if "skipped" in p["roboticstoolbox"]:
-        L.append(f"   roboticstoolbox: skipped — {p['roboticstoolbox']['skipped']}")
-    else:
-        rr = p["roboticstoolbox"]
-        L.append(f"   roboticstoolbox {rr['version']}, {rr['configs']:,d} configurations (best / median):")
-        L.append(f"     fkine(Q) batch                 {_fmt_rate(rr['fkine_batch']['best_cfg_per_s'])} / "
-                 f"{_fmt_rate(rr['fkine_batch']['median_cfg_per_s'])}")
-        L.append(f"     jacob0(q) loop                 {_fmt_rate(rr['jacob0_loop']['best_cfg_per_s'])} / "
-                 f"{_fmt_rate(rr['jacob0_loop']['median_cfg_per_s'])}")
+    L.append("5. peers, one thread, the fast way each documents (best / median)")
+    for key, p in R["peers"].items():
+        if "skipped" in p:
+            L.append(f"   {key}: skipped — {p['skipped']}")
+            continue
+        how = ("computeFrameJacobian(LOCAL_WORLD_ALIGNED) + frame placement" if key == "pinocchio"
+               else "C++ ETS: ets.eval(q) + ets.jacob0(q); batch ets.eval(Q)")
+        L.append(f"   {key} {p['version']} — {how}; loop over {p['configs']:,d} configurations  [{_load_note(p['load'])}]")
+        L.append(f"     FK + J + |det J|   {_rates(p['loop_fk_j_manip'])}")
+        L.append(f"     FK + J             {_rates(p['loop_fk_j'])}")
+        if "batch_fk" in p:
+            L.append(f"     FK, one batch call {_rates(p['batch_fk'])}")
+        L.append(f"     single FK + J, µs  {p['single_fk_j']['best_us']:7.3f} / {p['single_fk_j']['median_us']:7.3f}")
     if R["ratios"]:
-        L.append("   ratios rmtkit / peer (medians; rmtkit public batch call at N=1e5, multi-threaded, "
-                 "against single-threaded Python loops of the peers):")
+        L.append("   ratios (medians; like with like: rmtkit 1 thread into out= vs the peers' 1-thread loops, "
+                 "single call vs single call):")
         for k, x in R["ratios"].items():
-            L.append(f"     {k:50s} {x:10.1f}x")
+            L.append(f"     {k:55s} {x:10.2f}x")
     L.append("")
     a = R["agreement"]
-    L.append(f"5. agreement over {a['configs']} configurations ({a['metric']})")
+    L.append(f"6. agreement over {a['configs']} configurations ({a['metric']})")
     for k in ("pinocchio", "roboticstoolbox", "pinocchio_vs_rtb"):
         if k not in a:
             continue

@@ -4,11 +4,12 @@
 numeric DH table (standard or modified convention, joint offsets, base and tool):
 
 * pinocchio — a ``pin.Model`` joint by joint (RZ / PZ joints) with an operational frame at the tool
-  (:func:`pinocchio_model`, :func:`pinocchio_fk_jacobian`);
-* roboticstoolbox-python — a ``DHRobot`` (:func:`rtb_robot`, :func:`rtb_fk`);
+  (:func:`pinocchio_model`), evaluated by one ``computeFrameJacobian`` call (:func:`pinocchio_fk_jacobian`);
+* roboticstoolbox-python — a ``DHRobot`` (:func:`rtb_robot`) turned into an ``ETS``
+  (:func:`rtb_ets`) whose ``eval``/``jacob0`` run in the toolbox's C++ extension;
 
-plus the peers' evaluation loops that the benchmark times (:func:`pinocchio_loops`,
-:func:`rtb_loops`) and evaluates for agreement (:func:`pinocchio_batch`, :func:`rtb_batch`), and an
+each used the fast way its documentation shows, plus the peers' evaluation loops that the benchmark
+times (:func:`pinocchio_loops`, :func:`rtb_loops`) and evaluates for agreement (:func:`pinocchio_batch`, :func:`rtb_batch`), and an
 independent reference: a central finite-difference geometric Jacobian (:func:`fd_jacobian`, with the
 rotation log :func:`_log_so3`).  pinocchio and roboticstoolbox are imported only inside the functions
 that need them (the optional ``bench`` extra).
@@ -99,11 +100,12 @@ def pinocchio_model(chain):
 
 
 def pinocchio_fk_jacobian(model, data, fid, q):
-    """(T 4×4, J 6×n) at the tool frame; J in LOCAL_WORLD_ALIGNED (rows vx vy vz wx wy wz)."""
+    """(T 4×4, J 6×n) at the tool frame, the fast way pinocchio's docs show: one
+    ``computeFrameJacobian(model, data, q, frame, LOCAL_WORLD_ALIGNED)`` (rows vx vy vz wx wy wz),
+    which also updates the frame's placement ``data.oMf[frame]``."""
     import pinocchio as pin
 
-    pin.computeJointJacobians(model, data, q)  # includes forward kinematics
-    J = pin.getFrameJacobian(model, data, fid, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)  # updates oMf[fid]
+    J = pin.computeFrameJacobian(model, data, q, fid, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
     return data.oMf[fid].homogeneous, J
 
 
@@ -126,73 +128,69 @@ def rtb_robot(chain):
                        tool=SE3(chain.tool.matrix, check=False))
 
 
-def rtb_fk(robot, Q) -> np.ndarray:
-    """Batch FK through ``robot.fkine(Q)`` → (N, 4, 4)."""
-    T = robot.fkine(Q)
-    return np.asarray(T.A).reshape(-1, 4, 4)
-
+def rtb_ets(chain):
+    """The chain as a roboticstoolbox ``ETS`` (base, DH links, tool): its ``eval`` and ``jacob0`` run
+    in the toolbox's C++ extension, the fast path (the ``DHRobot`` methods are pure Python)."""
+    return rtb_robot(chain).ets()
 
 
 # ---- evaluation loops and batches ----------------------------------------------------------
-class PinocchioLoops(NamedTuple):
-    """Zero-argument callables over the rows of Q (one Python loop each), for timing pinocchio."""
+class PeerLoops(NamedTuple):
+    """Zero-argument callables over the rows of Q, for timing a peer (one thread, a Python loop
+    around the peer's compiled calls, the lookups hoisted out)."""
 
-    fk_j_manip: Callable[[], np.ndarray]  # FK + frame Jacobian + |det J| of every row → (N,)
-    fk_j: Callable[[], None]              # FK + frame Jacobian of every row
-    single_fk_j: Callable[[], tuple]      # one FK + frame Jacobian call at Q[0]
+    fk_j_manip: Callable[[], np.ndarray]  # FK + Jacobian + |det J| of every row → (N,)
+    fk_j: Callable[[], None]              # FK + Jacobian of every row
+    single_fk_j: Callable[[], tuple]      # one FK + Jacobian call at Q[0]
+    fk_batch: Callable[[], np.ndarray] | None = None  # the peer's own batch FK, where it has one
 
 
-def pinocchio_loops(chain, Q: np.ndarray) -> PinocchioLoops:
-    """pinocchio's evaluation loops over configurations Q (N, n), with the lookups hoisted out."""
+def pinocchio_loops(chain, Q: np.ndarray) -> PeerLoops:
+    """pinocchio: ``computeFrameJacobian`` (LOCAL_WORLD_ALIGNED), pose from the updated frame placement."""
     import pinocchio as pin
 
     model, fid = pinocchio_model(chain)
     data = model.createData()
-    n_pin = len(Q)
     LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
-    det = np.linalg.det
-    cjj, gfj = pin.computeJointJacobians, pin.getFrameJacobian
-    oMf = data.oMf
+    det, cfj = np.linalg.det, pin.computeFrameJacobian
+    M = data.oMf[fid]  # a reference, updated in place by computeFrameJacobian
 
     def loop_full():
-        res = np.empty(n_pin)
-        for k in range(n_pin):
-            cjj(model, data, Q[k])
-            J = gfj(model, data, fid, LWA)
-            oMf[fid].homogeneous
+        res = np.empty(len(Q))
+        for k in range(len(Q)):
+            J = cfj(model, data, Q[k], fid, LWA)
+            M.homogeneous
             res[k] = abs(det(J))
         return res
 
     def loop_fkj():
-        for k in range(n_pin):
-            cjj(model, data, Q[k])
-            gfj(model, data, fid, LWA)
-            oMf[fid].homogeneous
+        for k in range(len(Q)):
+            cfj(model, data, Q[k], fid, LWA)
+            M.homogeneous
 
     q0 = Q[0]
-    return PinocchioLoops(loop_full, loop_fkj,
-                          lambda: (cjj(model, data, q0), gfj(model, data, fid, LWA), oMf[fid].homogeneous))
+    return PeerLoops(loop_full, loop_fkj, lambda: (cfj(model, data, q0, fid, LWA), M.homogeneous))
 
 
-class RtbLoops(NamedTuple):
-    """The roboticstoolbox robot and zero-argument callables over the rows of Q, for timing it."""
+def rtb_loops(chain, Q: np.ndarray) -> PeerLoops:
+    """roboticstoolbox through its C++ ETS path: ``ets.eval`` (also batch) and ``ets.jacob0``."""
+    ets = rtb_ets(chain)
+    ev, jac, det = ets.eval, ets.jacob0, np.linalg.det
 
-    robot: object
-    fkine_batch: Callable[[], np.ndarray]  # one batch fkine of all rows → (N, 4, 4)
-    jacob0_loop: Callable[[], None]        # jacob0(q) of every row, in a Python loop
+    def loop_full():
+        res = np.empty(len(Q))
+        for k in range(len(Q)):
+            ev(Q[k])
+            res[k] = abs(det(jac(Q[k])))
+        return res
 
-
-def rtb_loops(chain, Q: np.ndarray) -> RtbLoops:
-    """roboticstoolbox's batch FK and Jacobian loop over configurations Q (N, n)."""
-    r = rtb_robot(chain)
-    n_rtb = len(Q)
-    jac = r.jacob0
-
-    def jloop():
-        for k in range(n_rtb):
+    def loop_fkj():
+        for k in range(len(Q)):
+            ev(Q[k])
             jac(Q[k])
 
-    return RtbLoops(r, lambda: rtb_fk(r, Q), jloop)
+    q0 = Q[0]
+    return PeerLoops(loop_full, loop_fkj, lambda: (ev(q0), jac(q0)), lambda: ev(Q))
 
 
 def pinocchio_batch(chain, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -204,9 +202,9 @@ def pinocchio_batch(chain, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def rtb_batch(chain, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """roboticstoolbox's tool poses (N, 4, 4) (batch fkine) and Jacobians (N, 6, n) (jacob0 loop)."""
-    r = rtb_robot(chain)
-    return rtb_fk(r, Q), np.array([r.jacob0(q) for q in Q])
+    """roboticstoolbox's tool poses (N, 4, 4) (batch ``ets.eval``) and Jacobians (N, 6, n) (``ets.jacob0``)."""
+    ets = rtb_ets(chain)
+    return np.asarray(ets.eval(Q)).reshape(-1, 4, 4), np.array([ets.jacob0(q) for q in Q])
 
 
 # ---- finite differences ------------------------------------------------------------------

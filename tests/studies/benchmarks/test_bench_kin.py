@@ -5,7 +5,8 @@ an operational frame at the tool) and in roboticstoolbox-python (``DHRobot``).  
 agreement figures only mean something if those conversions are right, so these tests compare the
 peers' tool pose and geometric Jacobian (base frame, tool point) with rmtkit's for every bundled
 6-joint robot, in standard DH and converted to modified DH (``chain.to_modified()``), and for
-variants with non-zero joint offsets and a non-trivial base and tool.  No timing here.
+variants with non-zero joint offsets and a non-trivial base and tool — through the calls the
+benchmark times (pinocchio's ``computeFrameJacobian``, roboticstoolbox's C++ ETS path).  No timing here.
 
 rmtkit is evaluated with the CasADi-VM backend (same numbers as the compiled one, no compiler or
 cache needed).  Tests skip when pinocchio / roboticstoolbox are not installed (``bench`` extra).
@@ -83,16 +84,35 @@ def test_pinocchio_model_matches_rmtkit(chain):
 
 
 @pytest.mark.parametrize("chain", list(_chains()))
-def test_rtb_robot_matches_rmtkit(chain):
+def test_rtb_ets_fast_path_matches_rmtkit(chain):
+    """The C++ ETS path the benchmark times: batch ``eval``, ``jacob0``, and the timed loops' values."""
     pytest.importorskip("roboticstoolbox")
     Q, T, J = _rmtkit(chain)
-    robot = peers.rtb_robot(chain)
-    assert robot.n == chain.n
-    assert robot.mdh == (chain.convention == "modified")
-    np.testing.assert_allclose(peers.rtb_fk(robot, Q), T, rtol=0, atol=TOL)
-    np.testing.assert_allclose(peers.rtb_fk(robot, Q[:1]), T[:1], rtol=0, atol=TOL)  # single-row batch
-    for q, Jk in zip(Q, J):
-        np.testing.assert_allclose(robot.jacob0(q), Jk, rtol=0, atol=TOL)
+    assert peers.rtb_robot(chain).mdh == (chain.convention == "modified")
+    ets = peers.rtb_ets(chain)
+    assert ets.n == chain.n
+    Tb, Jb = peers.rtb_batch(chain, Q)
+    np.testing.assert_allclose(Tb, T, rtol=0, atol=TOL)
+    np.testing.assert_allclose(Jb, J, rtol=0, atol=TOL)
+    np.testing.assert_allclose(peers.rtb_batch(chain, Q[:1])[0], T[:1], rtol=0, atol=TOL)  # single-row batch
+    loops = peers.rtb_loops(chain, Q)
+    np.testing.assert_allclose(loops.fk_j_manip(), np.abs(np.linalg.det(J)), rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(loops.fk_batch(), T, rtol=0, atol=TOL)
+    Ts, Js = loops.single_fk_j()
+    np.testing.assert_allclose(Ts, T[0], rtol=0, atol=TOL)
+    np.testing.assert_allclose(Js, J[0], rtol=0, atol=TOL)
+
+
+@pytest.mark.parametrize("chain", list(_chains())[:4])
+def test_pinocchio_loops_compute_the_same(chain):
+    """The timed pinocchio loop (computeFrameJacobian, hoisted frame placement) gives rmtkit's values."""
+    pytest.importorskip("pinocchio")
+    Q, T, J = _rmtkit(chain)
+    loops = peers.pinocchio_loops(chain, Q)
+    np.testing.assert_allclose(loops.fk_j_manip(), np.abs(np.linalg.det(J)), rtol=1e-9, atol=1e-12)
+    J0, T0 = loops.single_fk_j()
+    np.testing.assert_allclose(T0, T[0], rtol=0, atol=TOL)
+    np.testing.assert_allclose(J0, J[0], rtol=0, atol=TOL)
 
 
 @pytest.mark.parametrize("name", ["fanuc_m16ib20", "stanford_arm", "cnc_rrrppp"])
