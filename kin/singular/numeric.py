@@ -1,0 +1,406 @@
+"""The singular set of any chain, found numerically: the answer when the exact factoring does not
+finish within its budget.
+
+1. Sobol samples of the joint space (``scipy.stats.qmc``) are projected onto the singular set by
+   Gauss–Newton: with U, S, V the SVD of the task Jacobian J (m × n, r = min(m, n)), the residuals
+   h_ab = u_aᵀ J v_b over the near-null left vectors u_a (columns r…m of U) and right vectors v_b
+   (columns r…n of V) vanish exactly where rank J < r; their gradients ∂h_ab/∂q_k = u_aᵀ ∂_k J v_b
+   (∂_k J by central differences of the compiled Jacobian) span the normal space of the set.  For
+   a square J this is Newton on the signed σ_min; for a redundant arm (n > m) it is the set where
+   J·Jᵀ is singular, of codimension n − m + 1.
+2. Each converged point's *support* — the joints whose direction is not tangent to the set, i.e.
+   the joints the component depends on — is read off the normal space (the gradient of σ_min on
+   the set).  Points are grouped by support; a group is one component.
+3. Each component is described: its joints; for a one-joint component the joint values of its
+   sheets (q_j = r); the lost motion (the left singular vector u in the tool frame: the tool
+   direction the arm cannot move in); a name where the geometry says one (wrist: two of the last
+   three axes parallel; elbow: the arm stretched or folded — the lost motion comes from parallel
+   axes; shoulder: the wrist centre on the axis of joint 1, or joint 1 in the positioning null
+   motion); sample points on the set, in the component's own joint coordinates.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+from scipy.spatial import cKDTree
+from scipy.stats import qmc
+
+from kin.singular.determinant import ROW_NAMES, _closest_point, wrist_centre
+
+#: finite-difference step of ∂J/∂q (rad or m)
+FD_STEP = 1e-6
+#: a joint belongs to a component's support when its normal component exceeds this share
+SUPPORT_TOL = 1e-5
+#: a group smaller than this share of the converged points is merged into a larger one
+MIN_GROUP_SHARE = 0.02
+#: longest Gauss–Newton step (rad or m)
+MAX_STEP = 0.3
+KINDS = ("wrist", "elbow", "shoulder", "boundary", "prismatic", "other")
+
+Progress = Callable[[str, float, float], None]
+
+
+@dataclass
+class SingularComponent:
+    """One component of the singular set found numerically (SI units).
+
+    ``joints``: 1-based joints it depends on; ``points``: sampled configurations on the set (K, n);
+    ``normals``: a unit normal of the set at each point (K, n); ``solutions``: the joint values of a
+    one-joint component (``type = "values"``) or a summary of the sampled manifold; ``lost_motion``:
+    the tool-frame direction the arm cannot move in; ``resolution``: largest distance from a point
+    of the set to its nearest sample (joint space, over the component's joints), estimated on
+    fresh projections.
+    """
+
+    kind: str
+    joints: tuple[int, ...]
+    meaning: str
+    solutions: dict
+    n: int
+    points: np.ndarray = field(repr=False)
+    normals: np.ndarray = field(repr=False)
+    lost_motion: dict = field(default_factory=dict)
+    kind_shares: dict = field(default_factory=dict)
+    resolution: float = math.nan
+    multiplicity: int = 1
+    block: str = "numeric"
+    _tree: cKDTree | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def expr(self) -> str:
+        """A label in place of an expression: the component is known by samples, not by a formula."""
+        return f"sigma_min(J) = 0 on {', '.join(f'q{j}' for j in self.joints) or 'no joint'}"
+
+    @property
+    def symbolic(self) -> str:
+        return self.expr
+
+    @property
+    def samples(self) -> np.ndarray:
+        """The sampled configurations on the set (K, n) (the name the exact factors use)."""
+        return self.points
+
+    @property
+    def single_joint(self) -> int | None:
+        """The 0-based joint index when the component depends on one joint only."""
+        return self.joints[0] - 1 if len(self.joints) == 1 else None
+
+    def distance(self, Q) -> np.ndarray:
+        """Joint-space distance (over the component's joints) from configurations (N, n) to the
+        nearest sampled point → (N,); inf when the component has no point."""
+        Q2 = np.asarray(Q, dtype=float).reshape(-1, self.n)
+        if len(self.points) == 0:
+            return np.full(len(Q2), np.inf)
+        cols = [j - 1 for j in self.joints]
+        if self._tree is None:
+            self._tree = cKDTree(self.points[:, cols])
+        return self._tree.query(Q2[:, cols])[0]
+
+    def to_dict(self) -> dict:
+        return {"expr": self.expr, "symbolic": self.symbolic, "kind": self.kind, "joints": list(self.joints),
+                "meaning": self.meaning, "multiplicity": self.multiplicity, "block": self.block,
+                "solutions": self.solutions, "lost_motion": self.lost_motion, "kind_shares": self.kind_shares,
+                "resolution": self.resolution, "points": int(len(self.points))}
+
+
+# ---- Jacobians and projection ---------------------------------------------------------------------
+def _task_jacobian(robot, Q: np.ndarray) -> np.ndarray:
+    return robot.jacobian(Q)[:, list(robot.task_rows), :]
+
+
+def _jacobian_derivatives(robot, Q: np.ndarray) -> np.ndarray:
+    """∂J/∂q_k of the task Jacobian by central differences: (N, n, m, n), index 1 = k."""
+    N, n = Q.shape
+    E = np.eye(n) * FD_STEP
+    Qp = (Q[:, None, :] + E[None]).reshape(-1, n)
+    Qm = (Q[:, None, :] - E[None]).reshape(-1, n)
+    Jp = _task_jacobian(robot, Qp)
+    Jm = _task_jacobian(robot, Qm)
+    return ((Jp - Jm) / (2 * FD_STEP)).reshape(N, n, Jp.shape[1], n)
+
+
+def _residuals(robot, Q: np.ndarray):
+    """(σ_min (N,), residuals h (N, c), normal rows G (N, c, n), left null u (N, m), second
+    smallest singular value (N,)) at Q."""
+    J = _task_jacobian(robot, Q)
+    N, m, n = J.shape
+    r = min(m, n)
+    U, S, Vt = np.linalg.svd(J, full_matrices=True)
+    Ul = U[:, :, r - 1:]                      # (N, m, a)
+    Vr = np.transpose(Vt, (0, 2, 1))[:, :, r - 1:]   # (N, n, b)
+    dJ = _jacobian_derivatives(robot, Q)      # (N, n, m, n)
+    h = np.einsum("nia,nij,njb->nab", Ul, J, Vr).reshape(N, -1)
+    G = np.einsum("nia,nkij,njb->nabk", Ul, dJ, Vr).reshape(N, -1, n)
+    second = S[:, r - 2] if r >= 2 else np.full(N, np.inf)
+    return S[:, r - 1], h, G, U[:, :, r - 1], second
+
+
+def project(robot, Q0: np.ndarray, iterations: int = 40, tol: float = 1e-10,
+            deadline: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss–Newton projection of configurations (N, n) onto the singular set, inside the joint
+    limits → (projected Q, converged mask).  ``tol``: σ_min accepted as zero (SI)."""
+    lo, hi = robot.chain.lower, robot.chain.upper
+    Q = np.clip(np.array(Q0, dtype=float), lo, hi)
+    active = np.ones(len(Q), bool)
+    sigma = np.full(len(Q), np.inf)
+    for _ in range(iterations):
+        idx = np.flatnonzero(active)
+        if len(idx) == 0 or (deadline is not None and time.perf_counter() > deadline):
+            break
+        s, h, G, _, _ = _residuals(robot, Q[idx])
+        sigma[idx] = s
+        done = s < tol
+        active[idx[done]] = False
+        idx, h, G = idx[~done], h[~done], G[~done]
+        if len(idx) == 0:
+            break
+        step = -np.einsum("nkc,nc->nk", np.linalg.pinv(G, rcond=1e-10), h)
+        norm = np.linalg.norm(step, axis=1, keepdims=True)
+        step *= np.minimum(1.0, MAX_STEP / np.maximum(norm, 1e-300))
+        Q[idx] = np.clip(Q[idx] + step, lo, hi)
+    s = np.asarray(robot.sigma_min(Q)) if len(Q) else np.zeros(0)
+    return Q, (s < 10 * tol) & np.isfinite(s)
+
+
+# ---- describing the points ------------------------------------------------------------------------
+def _support(G: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per point: boolean support (N, n) of the normal space and a unit normal (N, n)."""
+    col = np.linalg.norm(G, axis=1)                      # (N, n)
+    scale = np.maximum(col.max(axis=1, keepdims=True), 1e-300)
+    _, _, Vt = np.linalg.svd(G, full_matrices=False)
+    return col > SUPPORT_TOL * scale, Vt[:, 0, :]
+
+
+def _lines(robot, Q: np.ndarray):
+    """Joint axes from the Jacobian: directions Z (N, n, 3) and points O (N, n, 3) on each revolute
+    axis (the point nearest the tool point), tool points P (N, 3) and tool rotations R (N, 3, 3)."""
+    T, J = robot.fk_jacobian(Q)
+    T, J = T.reshape(-1, 4, 4), J.reshape(-1, 6, robot.n)
+    P = T[:, :3, 3]
+    rev = robot.chain.revolute_mask
+    Z = np.where(rev[None, :, None], np.transpose(J[:, 3:, :], (0, 2, 1)), np.transpose(J[:, :3, :], (0, 2, 1)))
+    O = P[:, None, :] + np.cross(Z, np.transpose(J[:, :3, :], (0, 2, 1)))
+    return Z, O, P, T[:, :3, :3]
+
+
+def _parallel(a: np.ndarray, b: np.ndarray, tol: float = 1e-5) -> bool:
+    return float(np.linalg.norm(np.cross(a, b))) < tol
+
+
+def _name_point(robot, q: np.ndarray, own: list[int], generic_parallel: set, wc_frame) -> str:
+    """wrist / elbow / boundary / shoulder / prismatic / other for one configuration on the set."""
+    chain = robot.chain
+    n = chain.n
+    rev = [i for i in range(n) if chain.joints[i].is_revolute]
+    if all(not chain.joints[j].is_revolute for j in own):
+        return "prismatic"
+    Z, O, P, _ = (x[0] for x in _lines(robot, q[None]))
+    last = [i for i in rev if i >= n - 3]
+    for a in range(len(last)):
+        for b in range(a + 1, len(last)):
+            i, j = last[a], last[b]
+            if (i, j) not in generic_parallel and _parallel(Z[i], Z[j]):
+                return "wrist"
+    reach = max(float(np.linalg.norm(P - O[0])), 1e-9)
+    if wc_frame is not None:
+        # positioning Jacobian at the wrist centre (the intersection of the last three axes)
+        w, dist = _closest_point(Z[n - 3], O[n - 3], Z[n - 2], O[n - 2])
+        if not math.isfinite(dist):
+            w, _ = _closest_point(Z[n - 2], O[n - 2], Z[n - 1], O[n - 1])
+        k = n - 3
+        M = np.stack([np.cross(Z[i], w - O[i]) if chain.joints[i].is_revolute else Z[i] for i in range(k)], 1)
+        point, idx = w, list(range(k))
+    else:
+        M = robot.jacobian(q)[list(robot.task_rows)]
+        point, idx = P, list(range(n))
+    v = np.linalg.svd(M)[2][-1]
+    support = [idx[i] for i in range(len(idx)) if abs(v[i]) > 0.05 * np.abs(v).max()]
+    group = support + own
+    if 0 not in own and all(chain.joints[i].is_revolute for i in group) and all(
+            _parallel(Z[own[0]], Z[i], 1e-6) for i in group):
+        return "boundary" if set(robot.task_rows) <= {0, 1, 2} else "elbow"
+    if chain.joints[0].is_revolute:
+        off_axis = np.linalg.norm(np.cross(Z[0], point - O[0]))
+        if off_axis < 1e-6 * reach or (wc_frame is not None and 0 in support):
+            return "shoulder"
+    return "other"
+
+
+MEANINGS = {
+    "wrist": "two wrist axes become parallel: the wrist loses one rotation",
+    "elbow": "arm stretched or folded: it cannot move along the arm",
+    "boundary": "arm stretched or folded: the tool point is on the workspace boundary",
+    "shoulder": "the wrist centre (or tool point) lies on the axis of joint 1 or on its offset surface",
+    "prismatic": "prismatic joints at zero extension",
+    "other": "the joints lose a direction of motion together (no simpler geometric name)",
+}
+
+
+def _lost_motion(robot, Q: np.ndarray, U: np.ndarray) -> dict:
+    """The tool-frame direction the arm cannot move in, summarised over a component's points."""
+    rows = list(robot.task_rows)
+    _, _, _, R = _lines(robot, Q)
+    u6 = np.zeros((len(Q), 6))
+    u6[:, rows] = U
+    tool = np.concatenate([np.einsum("nji,nj->ni", R, u6[:, :3]), np.einsum("nji,nj->ni", R, u6[:, 3:])], axis=1)
+    _, s, Vt = np.linalg.svd(tool, full_matrices=False)
+    d = Vt[0] * np.sign(Vt[0][np.argmax(np.abs(Vt[0]))])
+    lin = float(np.mean(np.sum(tool[:, :3] ** 2, axis=1)))
+    return {"frame": "tool", "rows": [ROW_NAMES[r] for r in range(6)],
+            "direction": np.round(d, 6).tolist(), "consistency": float(s[0] ** 2 / max(np.sum(s ** 2), 1e-300)),
+            "linear_share": lin, "type": "linear" if lin > 0.9 else "angular" if lin < 0.1 else "mixed"}
+
+
+def _sheet_values(x: np.ndarray, gap: float = 1e-4) -> list[float]:
+    xs = np.sort(x)
+    groups = np.split(xs, np.flatnonzero(np.diff(xs) > gap) + 1)
+    return [float(np.median(g)) for g in groups if len(g)]
+
+
+# ---- the analysis ---------------------------------------------------------------------------------
+def numeric_components(robot, samples: int = 1024, seed: int = 0, time_limit: float = 30.0,
+                       points_per_component: int = 2000,
+                       progress: Progress | None = None) -> tuple[list[SingularComponent], dict]:
+    """Components of the singular set of ``robot`` (see the module docstring) → (components, info).
+
+    ``samples``: Sobol starting points (rounded up to a power of two); ``time_limit``: seconds for
+    the projections (the answer is built from what converged by then); ``points_per_component``:
+    target number of sampled points per multi-joint component (densified by re-projection).
+    """
+    t0 = time.perf_counter()
+    deadline = t0 + time_limit
+    chain = robot.chain
+    n = chain.n
+    lo, hi = chain.lower, chain.upper
+    say = progress or (lambda stage, done, total: None)
+    m2 = max(4, math.ceil(math.log2(max(samples, 16))))
+    S0 = qmc.Sobol(d=n, scramble=True, seed=seed).random_base2(m2)
+    Q0 = qmc.scale(S0, lo, hi)
+    # the scale of σ_min, for the tolerance
+    sig_scale = float(np.median(robot.sigma_min(Q0[:64]))) or 1.0
+    tol = 1e-10 * max(sig_scale, 1e-6)
+    found = []
+    chunk = 128
+    for k in range(0, len(Q0), chunk):
+        Qp, ok = project(robot, Q0[k:k + chunk], tol=tol, deadline=deadline)
+        found.append(Qp[ok])
+        say("projecting samples onto the singular set", min(k + chunk, len(Q0)), len(Q0))
+        if time.perf_counter() > deadline:
+            break
+    Q = np.concatenate(found) if found else np.zeros((0, n))
+    info = {"starts": int(len(Q0)), "converged": int(len(Q)), "tolerance": tol}
+    if len(Q) == 0:
+        info["seconds"] = time.perf_counter() - t0
+        return [], info
+    _, _, G, U, second = _residuals(robot, Q)
+    supp, normal = _support(G)
+    clean = second > 1e-4 * sig_scale         # a double zero singular value: where components meet
+    keys = [tuple(np.flatnonzero(s)) for s in supp]
+    counts: dict[tuple, int] = {}
+    for key, c in zip(keys, clean):
+        if c:
+            counts[key] = counts.get(key, 0) + 1
+    total = sum(counts.values())
+    major = {k for k, c in counts.items() if c >= max(3, MIN_GROUP_SHARE * total)}
+    groups: dict[tuple, list[int]] = {k: [] for k in major}
+    for i, key in enumerate(keys):
+        if key in major:
+            groups[key].append(i)
+            continue
+        # rare pattern (a partial derivative vanishing by chance, or a meeting point): the
+        # smallest major support containing it, if any
+        sup = [k for k in major if set(key) <= set(k)]
+        if sup:
+            groups[min(sup, key=len)].append(i)
+    info["groups_dropped"] = int(len(Q) - sum(len(v) for v in groups.values()))
+    wc = wrist_centre(robot)
+    generic = robot.random_configurations(1, seed=12345)
+    Zg = _lines(robot, generic)[0][0]
+    rev = [i for i in range(n) if chain.joints[i].is_revolute]
+    generic_parallel = {(i, j) for a, i in enumerate(rev) for j in rev[a + 1:] if _parallel(Zg[i], Zg[j])}
+    rng = np.random.default_rng(seed)
+    comps = []
+    for gi, (key, idx) in enumerate(sorted(groups.items(), key=lambda kv: -len(kv[1]))):
+        idx = np.array(idx)
+        own = list(key)
+        P = Q[idx]
+        Nrm = normal[idx]
+        if len(own) > 1 and time.perf_counter() < deadline:
+            P, Nrm = _densify(robot, P, Nrm, key, points_per_component, tol, deadline, rng)
+        use = P[rng.choice(len(P), min(len(P), 40), replace=False)]
+        votes: dict[str, int] = {}
+        for q in use:
+            name = _name_point(robot, q, own, generic_parallel, wc)
+            votes[name] = votes.get(name, 0) + 1
+        kind = max(votes, key=lambda k: (votes[k], k != "other"))
+        own = [int(j) for j in own]
+        names = ", ".join(f"q{j + 1}" for j in own)
+        if len(own) == 1:
+            j = own[0]
+            values = _sheet_values(P[:, j])
+            solutions = {"type": "values", "joint": j + 1, "values": values, "exact": [f"{v:.12g}" for v in values],
+                         "numeric": True}
+        else:
+            ranges = {f"q{j + 1}": [float(P[:, j].min()), float(P[:, j].max())] for j in own}
+            solutions = {"type": "manifold", "solve_for": None, "count": int(len(P)), "ranges": ranges,
+                         "samples": np.round(P[:5], 9).tolist(), "numeric": True}
+        Uc = _residuals(robot, use)[3]
+        comp = SingularComponent(kind=kind, joints=tuple(int(j) + 1 for j in own), meaning=f"{names}: {MEANINGS[kind]}",
+                                 solutions=solutions, n=n, points=P, normals=Nrm,
+                                 lost_motion=_lost_motion(robot, use, Uc),
+                                 kind_shares={k: v / len(use) for k, v in votes.items()})
+        comp.resolution = _resolution(robot, comp, tol, rng, deadline) if len(own) > 1 else 0.0
+        comps.append(comp)
+        say("describing components", gi + 1, len(groups))
+    order = {k: i for i, k in enumerate(KINDS)}
+    comps.sort(key=lambda c: (order[c.kind], c.joints))
+    info["seconds"] = time.perf_counter() - t0
+    return comps, info
+
+
+def _densify(robot, P: np.ndarray, Nrm: np.ndarray, key: tuple, target: int, tol: float, deadline: float,
+             rng) -> tuple[np.ndarray, np.ndarray]:
+    """More points on one component: its points moved at random within its own joints and
+    projected again; those landing on the same support are kept."""
+    lo, hi = robot.chain.lower, robot.chain.upper
+    cols = list(key)
+    rounds = 0
+    while len(P) < target and rounds < 6 and time.perf_counter() < deadline:
+        rounds += 1
+        k = min(target - len(P), 4 * len(P), 1024)
+        base = P[rng.integers(len(P), size=k)].copy()
+        spread = 0.5 * (hi[cols] - lo[cols]) / max(len(P), 2) ** (1.0 / max(len(cols) - 1, 1))
+        base[:, cols] += rng.normal(size=(k, len(cols))) * spread
+        Qp, ok = project(robot, np.clip(base, lo, hi), tol=tol, deadline=deadline)
+        Qp = Qp[ok]
+        if len(Qp) == 0:
+            continue
+        _, _, G, _, _ = _residuals(robot, Qp)
+        supp, nrm = _support(G)
+        same = np.all(supp == np.isin(np.arange(robot.n), cols)[None], axis=1)
+        P = np.concatenate([P, Qp[same]])
+        Nrm = np.concatenate([Nrm, nrm[same]])
+    return P, Nrm
+
+
+def _resolution(robot, comp: SingularComponent, tol: float, rng, deadline: float, count: int = 64) -> float:
+    """Largest distance from fresh points of the component to its sampled points (a covering
+    radius estimate): points moved off the set at random and projected back."""
+    if time.perf_counter() > deadline:
+        return math.nan
+    lo, hi = robot.chain.lower, robot.chain.upper
+    cols = [j - 1 for j in comp.joints]
+    base = comp.points[rng.integers(len(comp.points), size=count)].copy()
+    base[:, cols] += rng.normal(size=(count, len(cols))) * 0.3
+    Qp, ok = project(robot, np.clip(base, lo, hi), tol=tol, deadline=deadline + 5.0)
+    Qp = Qp[ok]
+    if len(Qp) == 0:
+        return math.nan
+    _, _, G, _, _ = _residuals(robot, Qp)
+    supp, _ = _support(G)
+    same = np.all(supp == np.isin(np.arange(robot.n), cols)[None], axis=1)
+    return float(comp.distance(Qp[same]).max()) if same.any() else math.nan
