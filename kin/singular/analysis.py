@@ -229,7 +229,7 @@ def analyse_singularities(robot, samples: int = 200, seed: int = 0, exact_timeou
     comps, info = numeric_components(robot, seed=seed, time_limit=float(numeric_time), progress=progress)
     budget.update({"numeric_seconds": time.perf_counter() - t1, **{f"numeric_{k}": v for k, v in info.items()
                                                                     if k != "seconds"}})
-    derivation = (f"numeric: {info['starts']} Sobol samples projected onto σ_min = 0 by Gauss–Newton "
+    derivation = (f"{info['starts']} Sobol samples projected onto σ_min = 0 by Gauss–Newton "
                   f"({info['converged']} converged), grouped by the joints the set depends on "
                   f"(the exact path: {budget['exact_status']} after {budget['exact_seconds']:.1f} s)")
     return SingularityAnalysis(robot=chain.name, factors=comps, method="numeric",

@@ -39,6 +39,8 @@ SUPPORT_TOL = 1e-5
 MIN_GROUP_SHARE = 0.02
 #: longest Gauss–Newton step (rad or m)
 MAX_STEP = 0.3
+#: a sample's tangent disc reaches its this-many-th nearest sample
+DISC_NEIGHBOURS = 3
 KINDS = ("wrist", "elbow", "shoulder", "boundary", "prismatic", "other")
 
 Progress = Callable[[str, float, float], None]
@@ -66,14 +68,16 @@ class SingularComponent:
     lost_motion: dict = field(default_factory=dict)
     kind_shares: dict = field(default_factory=dict)
     resolution: float = math.nan
+    codimension: int = 1
     multiplicity: int = 1
     block: str = "numeric"
     _tree: cKDTree | None = field(default=None, repr=False, compare=False)
+    _radius: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     @property
     def expr(self) -> str:
         """A label in place of an expression: the component is known by samples, not by a formula."""
-        return f"sigma_min(J) = 0 on {', '.join(f'q{j}' for j in self.joints) or 'no joint'}"
+        return f"sigma_min(J; {', '.join(f'q{j}' for j in self.joints)})"
 
     @property
     def symbolic(self) -> str:
@@ -89,22 +93,69 @@ class SingularComponent:
         """The 0-based joint index when the component depends on one joint only."""
         return self.joints[0] - 1 if len(self.joints) == 1 else None
 
+    @property
+    def local_normals(self) -> np.ndarray | None:
+        """Unit normals over the component's joints (K, len(joints)) when the set is a hypersurface
+        (square task Jacobian), else None (a set of higher codimension has no single normal)."""
+        if self.codimension != 1 or len(self.points) == 0:
+            return None
+        N = self.normals[:, [j - 1 for j in self.joints]]
+        return N / np.maximum(np.linalg.norm(N, axis=1, keepdims=True), 1e-300)
+
+    @property
+    def radius(self) -> np.ndarray:
+        """Radius of the tangent disc each sample stands for (K,): the distance to its
+        :data:`DISC_NEIGHBOURS`-th nearest sample, so that neighbouring discs overlap."""
+        if len(self.points) < 2:
+            return np.zeros(len(self.points))
+        self.distance(self.points[:1])
+        k = min(DISC_NEIGHBOURS + 1, len(self.points))
+        return self._tree.query(self.points[:, [j - 1 for j in self.joints]], k=k)[0][:, -1]
+
     def distance(self, Q) -> np.ndarray:
         """Joint-space distance (over the component's joints) from configurations (N, n) to the
-        nearest sampled point → (N,); inf when the component has no point."""
+        sampled set (see :func:`sampled_distance`) → (N,); inf when the component has no point."""
         Q2 = np.asarray(Q, dtype=float).reshape(-1, self.n)
+        cols = [j - 1 for j in self.joints]
         if len(self.points) == 0:
             return np.full(len(Q2), np.inf)
-        cols = [j - 1 for j in self.joints]
         if self._tree is None:
             self._tree = cKDTree(self.points[:, cols])
-        return self._tree.query(Q2[:, cols])[0]
+        if self._radius is None:
+            self._radius = np.zeros(len(self.points))
+            self._radius = self.radius
+        return sampled_distance(self._tree, self.local_normals, self._radius, Q2[:, cols])
+
+    def normal_at(self, Q) -> np.ndarray:
+        """Unit normal of the set (N, n) at the sampled point nearest each configuration (N, n)."""
+        Q2 = np.asarray(Q, dtype=float).reshape(-1, self.n)
+        if len(self.points) == 0:
+            return np.zeros_like(Q2)
+        self.distance(Q2[:1])
+        return self.normals[self._tree.query(Q2[:, [j - 1 for j in self.joints]])[1]]
 
     def to_dict(self) -> dict:
         return {"expr": self.expr, "symbolic": self.symbolic, "kind": self.kind, "joints": list(self.joints),
                 "meaning": self.meaning, "multiplicity": self.multiplicity, "block": self.block,
                 "solutions": self.solutions, "lost_motion": self.lost_motion, "kind_shares": self.kind_shares,
                 "resolution": self.resolution, "points": int(len(self.points))}
+
+
+def sampled_distance(tree: cKDTree, normals: np.ndarray | None, radius: np.ndarray | None, X: np.ndarray,
+                     k: int = 16) -> np.ndarray:
+    """Distance from points X (N, d) to a sampled set: with ``normals`` (K, d) each sample stands
+    for the disc of ``radius`` (K,) around it in its tangent plane (the distance to a disc is
+    √((n·Δ)² + max(‖Δ_t‖ − radius, 0)²)), minimised over the ``k`` nearest samples; without
+    normals, the distance to the nearest sample."""
+    if normals is None or radius is None:
+        return tree.query(X)[0]
+    k = min(k, tree.n)
+    _, idx = tree.query(X, k=k)
+    idx = idx.reshape(len(X), k)
+    D = X[:, None, :] - tree.data[idx]                  # (N, k, d)
+    h = np.einsum("nkd,nkd->nk", D, normals[idx])
+    t = np.sqrt(np.maximum(np.einsum("nkd,nkd->nk", D, D) - h * h, 0.0))
+    return np.sqrt(h * h + np.maximum(t - radius[idx], 0.0) ** 2).min(axis=1)
 
 
 # ---- Jacobians and projection ---------------------------------------------------------------------
@@ -297,6 +348,7 @@ def numeric_components(robot, samples: int = 1024, seed: int = 0, time_limit: fl
         info["seconds"] = time.perf_counter() - t0
         return [], info
     _, _, G, U, second = _residuals(robot, Q)
+    codim = G.shape[1]
     supp, normal = _support(G)
     clean = second > 1e-4 * sig_scale         # a double zero singular value: where components meet
     keys = [tuple(np.flatnonzero(s)) for s in supp]
@@ -350,7 +402,7 @@ def numeric_components(robot, samples: int = 1024, seed: int = 0, time_limit: fl
                          "samples": np.round(P[:5], 9).tolist(), "numeric": True}
         Uc = _residuals(robot, use)[3]
         comp = SingularComponent(kind=kind, joints=tuple(int(j) + 1 for j in own), meaning=f"{names}: {MEANINGS[kind]}",
-                                 solutions=solutions, n=n, points=P, normals=Nrm,
+                                 solutions=solutions, n=n, points=P, normals=Nrm, codimension=codim,
                                  lost_motion=_lost_motion(robot, use, Uc),
                                  kind_shares={k: v / len(use) for k, v in votes.items()})
         comp.resolution = _resolution(robot, comp, tol, rng, deadline) if len(own) > 1 else 0.0

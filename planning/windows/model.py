@@ -14,6 +14,7 @@ import sympy as sp
 
 
 from planning.errors import WindowError
+from planning.windows.sampled import PointSetWindow, is_point_set_entry
 
 METHODS = ("margin", "sigma_min", "manipulability", "learned")
 
@@ -113,7 +114,7 @@ class WindowSet:
 
     robot: str
     n: int
-    windows: list[Window]
+    windows: list[Window | PointSetWindow]
 
     def membership(self, Q) -> np.ndarray:
         """(N, k) boolean: configuration i inside window j."""
@@ -159,4 +160,5 @@ class WindowSet:
         if not isinstance(d, dict) or not isinstance(d.get("windows"), list) or not isinstance(d.get("n"), int):
             raise WindowError(f"{path}: needs fields robot, n (integer) and windows (list)")
         return cls(robot=str(d.get("robot", "")), n=d["n"],
-                   windows=[Window.from_dict(w, d["n"], str(path)) for w in d["windows"]])
+                   windows=[(PointSetWindow if is_point_set_entry(w) else Window).from_dict(w, d["n"], str(path))
+                            for w in d["windows"]])

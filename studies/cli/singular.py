@@ -3,10 +3,11 @@ the (functional) workspace of a robot."""
 from __future__ import annotations
 
 import kin
-from kin.singular import analyse_singularities
+from kin.singular import DEFAULT_EXACT_TIMEOUT, analyse_singularities
 from planning.windows import WindowSet, build_windows
 
 from studies.cli.common import dump, factor_margins
+from studies.cli.progress import TerminalProgress
 from studies.units import unit_names
 
 
@@ -28,23 +29,30 @@ def singularities_json(robot: kin.Robot, analysis) -> dict:
             sol["ranges_file_units"] = {k: None if r is None else [_value_to_file(chain, int(k[1:]), x) for x in r]
                                         for k, r in sol["ranges"].items()}
         factors.append({"expr": d["expr"], "kind": d["kind"], "joints": d["joints"], "meaning": d["meaning"],
-                        "solutions": sol, "symbolic": d["symbolic"], "multiplicity": d["multiplicity"]})
-    return {"robot": chain.name, "factors": factors, "method": analysis.method, "rows": list(analysis.rows),
+                        "solutions": sol, "symbolic": d["symbolic"], "multiplicity": d["multiplicity"],
+                        **{k: d[k] for k in ("lost_motion", "kind_shares", "resolution", "points") if k in d}})
+    return {"robot": chain.name, "factors": factors, "method": analysis.method, "derivation": analysis.derivation,
+            "budget": analysis.budget, "rows": list(analysis.rows),
             "units": {"expr": "q in rad (revolute) or m (prismatic), lengths in m",
                       "values": "rad or m; *_file_units in the robot file's units", **unit_names(chain)},
             "lengths": analysis.lengths, "seconds": analysis.seconds}
 
 
+def _analyse(robot, args):
+    with TerminalProgress() as progress:
+        return analyse_singularities(robot, seed=args.seed, exact_timeout=args.exact_timeout, progress=progress)
+
+
 def cmd_singularities(args, load_robot) -> int:
     robot = load_robot(args.robot)
-    analysis = analyse_singularities(robot, seed=args.seed)
+    analysis = _analyse(robot, args)
     out = singularities_json(robot, analysis)
     if args.json:
         print(dump(out))
         return 0
     c = robot.chain
     print(f"{c.name}: {len(out['factors'])} singular factor{'s' if len(out['factors']) != 1 else ''} "
-          f"({analysis.method}; {analysis.seconds:.2f} s)")
+          f"({analysis.method}: {analysis.derivation}; {analysis.seconds:.2f} s)")
     for i, f in enumerate(out["factors"], 1):
         joints = ", ".join(f"q{j}" for j in f["joints"])
         mult = f" (multiplicity {f['multiplicity']})" if f["multiplicity"] > 1 else ""
@@ -73,6 +81,8 @@ def _windows_text(robot: kin.Robot, ws: WindowSet) -> str:
             unit = c.angle_unit if c.joints[j - 1].is_revolute else c.length_unit
             ivs = " ∪ ".join(f"[{_value_to_file(c, j, lo):.6g}, {_value_to_file(c, j, hi):.6g}]" for lo, hi in w.intervals)
             lines.append(f"  {w.name}\n      q{j} ∈ {ivs or '∅'} {unit}   (half-width {w.width:.6g} SI, {w.method})")
+        elif getattr(w, "is_point_set", False):
+            lines.append(f"  {w.name}\n      within {w.width:.6g} SI of {len(w.points)} sampled points   ({w.method})")
         else:
             lines.append(f"  {w.name}\n      |g(q)| ≤ {w.epsilon:.6g}   (half-width ≥ {w.width:.6g} SI, {w.method})")
     return "\n".join(lines)
@@ -81,7 +91,7 @@ def _windows_text(robot: kin.Robot, ws: WindowSet) -> str:
 def cmd_windows(args, load_robot) -> int:
     robot = load_robot(args.robot)
     c = robot.chain
-    analysis = analyse_singularities(robot, seed=args.seed)
+    analysis = _analyse(robot, args)
     reports = None
     if args.margin is not None:
         ws = build_windows(robot, margin=factor_margins(c, analysis, args.margin), analysis=analysis, seed=args.seed)
@@ -143,11 +153,18 @@ def cmd_workspace(args, load_robot) -> int:
     return 0
 
 
+def _add_exact_timeout(sp) -> None:
+    sp.add_argument("--exact-timeout", type=float, default=DEFAULT_EXACT_TIMEOUT, metavar="S",
+                    help=f"seconds for the exact (sympy) analysis before the numeric one answers "
+                         f"(default {DEFAULT_EXACT_TIMEOUT:g}; a finished one is cached on disk)")
+
+
 def add_commands(add) -> None:
     """Register the commands with the CLI's ``add(name, func, help)`` helper."""
     sp = add("singularities", cmd_singularities, "the singular set: factors of det J, named, with their solutions")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
     sp.add_argument("--seed", type=int, default=0, help="seed of the zero-set samples (default 0)")
+    _add_exact_timeout(sp)
     sp = add("windows", cmd_windows, "singular error windows around every factor of the singular set")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
     g = sp.add_mutually_exclusive_group(required=True)
@@ -159,6 +176,7 @@ def add_commands(add) -> None:
                    help="the thesis's method: widths from a learned IK model's error at singular poses")
     sp.add_argument("--out", metavar="FILE.json", help="save the windows (SI units) to a JSON file")
     sp.add_argument("--seed", type=int, default=0, help="seed (default 0)")
+    _add_exact_timeout(sp)
     sp = add("workspace", cmd_workspace, "sampled workspace: volume, reach, near-singular share, plot")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
     sp.add_argument("--samples", type=int, default=100_000, help="number of joint-space samples (default 100000)")
