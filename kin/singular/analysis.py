@@ -34,7 +34,7 @@ import numpy as np
 
 from kin.chain import Chain
 from kin.singular import cache
-from kin.singular.budget import DEFAULT_MEMORY, check_budget, run_with_budget
+from kin.singular.budget import DEFAULT_MEMORY, BudgetError, check_budget, run_with_budget
 from kin.singular.determinant import ROW_NAMES, derivation_text, wrist_centre
 from kin.singular.exact import (StructureError, content_key, exact_structure, numeric_form, rebuild, trig_form,
                                 validate_structure)
@@ -207,8 +207,8 @@ def analyse_singularities(robot, samples: int = 200, seed: int = 0, exact_timeou
     seconds.  ``progress(stage, done, total)`` is called as the work goes on (kin never prints).
     """
     check_budget(exact_timeout, exact_memory)
-    if not (isinstance(numeric_time, (int, float)) and 0 < numeric_time <= 3600):
-        raise StructureError(f"numeric_time {numeric_time!r} must be a number of seconds in (0, 3600]")
+    if isinstance(numeric_time, bool) or not (isinstance(numeric_time, (int, float)) and 0 < numeric_time <= 3600):
+        raise BudgetError(f"numeric_time {numeric_time!r} must be a number of seconds in (0, 3600]")
     say = progress or (lambda stage, done, total: None)
     t0 = time.perf_counter()
     chain: Chain = robot.chain

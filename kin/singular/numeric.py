@@ -76,7 +76,11 @@ class SingularComponent:
 
     @property
     def expr(self) -> str:
-        """A label in place of an expression: the component is known by samples, not by a formula."""
+        """For a one-joint component, the polynomial (q_j − r_1)·(q_j − r_2)… of its sheets (in the
+        grammar windows files accept); otherwise a label, as the component has no formula."""
+        if self.single_joint is not None and self.solutions.get("values"):
+            j = self.joints[0]
+            return "*".join(f"(q{j} {'-' if r >= 0 else '+'} {abs(r)!r})" for r in self.solutions["values"])
         return f"sigma_min(J; {', '.join(f'q{j}' for j in self.joints)})"
 
     @property
