@@ -269,19 +269,34 @@ def _name_point(robot, q: np.ndarray, own: list[int], generic_parallel: set, wc_
         k = n - 3
         M = np.stack([np.cross(Z[i], w - O[i]) if chain.joints[i].is_revolute else Z[i] for i in range(k)], 1)
         point, idx = w, list(range(k))
+        U, _, Vt = np.linalg.svd(M)
+        lost = U[:, -1]
     else:
-        M = robot.jacobian(q)[list(robot.task_rows)]
+        rows = list(robot.task_rows)
+        M = robot.jacobian(q)[rows]
         point, idx = P, list(range(n))
-    v = np.linalg.svd(M)[2][-1]
-    support = [idx[i] for i in range(len(idx)) if abs(v[i]) > 0.05 * np.abs(v).max()]
-    group = support + own
-    if 0 not in own and all(chain.joints[i].is_revolute for i in group) and all(
-            _parallel(Z[own[0]], Z[i], 1e-6) for i in group):
-        return "boundary" if set(robot.task_rows) <= {0, 1, 2} else "elbow"
-    if chain.joints[0].is_revolute:
-        off_axis = np.linalg.norm(np.cross(Z[0], point - O[0]))
-        if off_axis < 1e-6 * reach or (wc_frame is not None and 0 in support):
+        U, _, Vt = np.linalg.svd(M)
+        u6 = np.zeros(6)
+        u6[rows] = U[:, -1]
+        lost = u6[:3] / np.linalg.norm(u6[:3]) if np.linalg.norm(u6[:3]) > 0.5 else None
+    if M.shape[0] == M.shape[1]:
+        # square: the null motion is unique — stretched/folded when it comes from parallel axes only
+        v = Vt[-1]
+        support = [idx[i] for i in range(len(idx)) if abs(v[i]) > 0.05 * np.abs(v).max()]
+        group = support + own
+        if 0 not in own and all(chain.joints[i].is_revolute for i in group) and all(
+                _parallel(Z[own[0]], Z[i], 1e-6) for i in group):
+            return "boundary" if set(robot.task_rows) <= {0, 1, 2} else "elbow"
+        if wc_frame is not None and 0 in support and chain.joints[0].is_revolute:
             return "shoulder"
+    if len(own) == 1 and own[0] != 0 and chain.joints[own[0]].is_revolute and lost is not None:
+        # stretched/folded about one joint: the lost motion is along the line from its axis to the point
+        r = point - O[own[0]]
+        r = r - (r @ Z[own[0]]) * Z[own[0]]
+        if np.linalg.norm(r) > 1e-6 * reach and abs(lost @ r) / np.linalg.norm(r) > 0.999:
+            return "boundary" if set(robot.task_rows) <= {0, 1, 2} else "elbow"
+    if chain.joints[0].is_revolute and np.linalg.norm(np.cross(Z[0], point - O[0])) < 1e-6 * reach:
+        return "shoulder"
     return "other"
 
 
@@ -313,7 +328,7 @@ def _lost_motion(robot, Q: np.ndarray, U: np.ndarray) -> dict:
 def _sheet_values(x: np.ndarray, gap: float = 1e-4) -> list[float]:
     xs = np.sort(x)
     groups = np.split(xs, np.flatnonzero(np.diff(xs) > gap) + 1)
-    return [float(np.median(g)) for g in groups if len(g)]
+    return [round(float(np.median(g)), 12) + 0.0 for g in groups if len(g)]
 
 
 # ---- the analysis ---------------------------------------------------------------------------------

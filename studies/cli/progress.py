@@ -12,9 +12,10 @@ class TerminalProgress:
     """A ``progress(stage, done, total)`` callback drawing one bar per stage; use it as a context
     manager so the last bar is closed."""
 
-    def __init__(self, stream=None, delay: float = 1.0):
+    def __init__(self, stream=None, delay: float = 1.0, mininterval: float = 0.1):
         self.stream = stream if stream is not None else sys.stderr
         self.delay = delay
+        self.mininterval = mininterval
         self.stage: str | None = None
         self.bar: tqdm | None = None
 
@@ -22,7 +23,7 @@ class TerminalProgress:
         if stage != self.stage:
             self.close()
             self.stage = stage
-            self.bar = tqdm(total=total, desc=stage, delay=self.delay, file=self.stream, disable=None, leave=False,
+            self.bar = tqdm(total=total, desc=stage, delay=self.delay, mininterval=self.mininterval, file=self.stream, disable=None, leave=False,
                             bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}")
         if self.bar is not None:
             self.bar.update(max(done - self.bar.n, 0))
