@@ -333,7 +333,7 @@ def _sheet_values(x: np.ndarray, gap: float = 1e-4) -> list[float]:
 
 # ---- the analysis ---------------------------------------------------------------------------------
 def numeric_components(robot, samples: int = 1024, seed: int = 0, time_limit: float = 30.0,
-                       points_per_component: int = 2000,
+                       points_per_component: int = 4000,
                        progress: Progress | None = None) -> tuple[list[SingularComponent], dict]:
     """Components of the singular set of ``robot`` (see the module docstring) → (components, info).
 
@@ -440,12 +440,16 @@ def _densify(robot, P: np.ndarray, Nrm: np.ndarray, key: tuple, target: int, tol
     lo, hi = robot.chain.lower, robot.chain.upper
     cols = list(key)
     rounds = 0
-    while len(P) < target and rounds < 6 and time.perf_counter() < deadline:
+    while len(P) < target and rounds < 12 and time.perf_counter() < deadline:
         rounds += 1
         k = min(target - len(P), 4 * len(P), 1024)
         base = P[rng.integers(len(P), size=k)].copy()
+        # half of the starts anywhere in the component's joints (reaching sheets no point is near
+        # yet), half next to the points it has (filling the gaps between them)
+        half = k // 2
+        base[:half][:, cols] = rng.uniform(lo[cols], hi[cols], size=(half, len(cols)))
         spread = 0.5 * (hi[cols] - lo[cols]) / max(len(P), 2) ** (1.0 / max(len(cols) - 1, 1))
-        base[:, cols] += rng.normal(size=(k, len(cols))) * spread
+        base[half:, cols] += rng.normal(size=(k - half, len(cols))) * spread
         Qp, ok = project(robot, np.clip(base, lo, hi), tol=tol, deadline=deadline)
         Qp = Qp[ok]
         if len(Qp) == 0:
