@@ -80,7 +80,8 @@ class SingularComponent:
         grammar windows files accept); otherwise a label, as the component has no formula."""
         if self.single_joint is not None and self.solutions.get("values"):
             j = self.joints[0]
-            return "*".join(f"(q{j} {'-' if r >= 0 else '+'} {abs(r)!r})" for r in self.solutions["values"])
+            return "*".join(f"q{j}" if r == 0 else f"(q{j} {'-' if r > 0 else '+'} {abs(r)!r})"
+                            for r in self.solutions["values"])
         return f"sigma_min(J; {', '.join(f'q{j}' for j in self.joints)})"
 
     @property
@@ -338,11 +339,14 @@ def numeric_components(robot, samples: int = 1024, seed: int = 0, time_limit: fl
     """Components of the singular set of ``robot`` (see the module docstring) → (components, info).
 
     ``samples``: Sobol starting points (rounded up to a power of two); ``time_limit``: seconds for
-    the projections (the answer is built from what converged by then); ``points_per_component``:
-    target number of sampled points per multi-joint component (densified by re-projection).
+    the projections — 60 % for the starting points, the rest shared by the components'
+    densification; the answer is built from what converged by then, and describing the components
+    adds at most a few seconds more; ``points_per_component``: target number of sampled points per
+    multi-joint component (densified by re-projection).
     """
     t0 = time.perf_counter()
     deadline = t0 + time_limit
+    project_deadline = t0 + 0.6 * time_limit     # the rest is shared by the components' densification
     chain = robot.chain
     n = chain.n
     lo, hi = chain.lower, chain.upper
@@ -356,10 +360,10 @@ def numeric_components(robot, samples: int = 1024, seed: int = 0, time_limit: fl
     found = []
     chunk = 128
     for k in range(0, len(Q0), chunk):
-        Qp, ok = project(robot, Q0[k:k + chunk], tol=tol, deadline=deadline)
+        Qp, ok = project(robot, Q0[k:k + chunk], tol=tol, deadline=project_deadline)
         found.append(Qp[ok])
         say("projecting samples onto the singular set", min(k + chunk, len(Q0)), len(Q0))
-        if time.perf_counter() > deadline:
+        if time.perf_counter() > project_deadline:
             break
     Q = np.concatenate(found) if found else np.zeros((0, n))
     info = {"starts": int(len(Q0)), "converged": int(len(Q)), "tolerance": tol}
@@ -396,12 +400,17 @@ def numeric_components(robot, samples: int = 1024, seed: int = 0, time_limit: fl
     rng = np.random.default_rng(seed)
     comps = []
     for gi, (key, idx) in enumerate(sorted(groups.items(), key=lambda kv: -len(kv[1]))):
+        share = max(deadline - time.perf_counter(), 0.0) / (len(groups) - gi)
+        comp_deadline = time.perf_counter() + share
         idx = np.array(idx)
         own = list(key)
         P = Q[idx]
         Nrm = normal[idx]
-        if len(own) > 1 and time.perf_counter() < deadline:
-            P, Nrm = _densify(robot, P, Nrm, key, points_per_component, tol, deadline, rng)
+        # the set's dimension over its own joints: isolated points need no more samples, curves few
+        dim = len(own) - codim
+        target = 0 if dim <= 0 else min(points_per_component, 1000) if dim == 1 else points_per_component
+        if len(own) > 1 and time.perf_counter() < comp_deadline:
+            P, Nrm = _densify(robot, P, Nrm, key, target, tol, comp_deadline, rng)
         use = P[rng.choice(len(P), min(len(P), 40), replace=False)]
         votes: dict[str, int] = {}
         for q in use:
@@ -424,7 +433,7 @@ def numeric_components(robot, samples: int = 1024, seed: int = 0, time_limit: fl
                                  solutions=solutions, n=n, points=P, normals=Nrm, codimension=codim,
                                  lost_motion=_lost_motion(robot, use, Uc),
                                  kind_shares={k: v / len(use) for k, v in votes.items()})
-        comp.resolution = _resolution(robot, comp, tol, rng, deadline) if len(own) > 1 else 0.0
+        comp.resolution = _resolution(robot, comp, tol, rng, deadline + 5.0) if len(own) > 1 else 0.0
         comps.append(comp)
         say("describing components", gi + 1, len(groups))
     order = {k: i for i, k in enumerate(KINDS)}
@@ -464,14 +473,15 @@ def _densify(robot, P: np.ndarray, Nrm: np.ndarray, key: tuple, target: int, tol
 
 def _resolution(robot, comp: SingularComponent, tol: float, rng, deadline: float, count: int = 64) -> float:
     """Largest distance from fresh points of the component to its sampled points (a covering
-    radius estimate): points moved off the set at random and projected back."""
+    radius estimate): points moved off the set at random and projected back (for at most 2 s,
+    and not after ``deadline``)."""
     if time.perf_counter() > deadline:
         return math.nan
     lo, hi = robot.chain.lower, robot.chain.upper
     cols = [j - 1 for j in comp.joints]
     base = comp.points[rng.integers(len(comp.points), size=count)].copy()
     base[:, cols] += rng.normal(size=(count, len(cols))) * 0.3
-    Qp, ok = project(robot, np.clip(base, lo, hi), tol=tol, deadline=deadline + 5.0)
+    Qp, ok = project(robot, np.clip(base, lo, hi), tol=tol, deadline=min(deadline, time.perf_counter() + 2.0))
     Qp = Qp[ok]
     if len(Qp) == 0:
         return math.nan

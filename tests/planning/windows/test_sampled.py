@@ -112,3 +112,46 @@ def test_sigma_min_windows_from_a_numeric_analysis(puma_numeric):
     rows = list(robot.task_rows)
     s = np.linalg.svd(robot.jacobian(Q[out])[:, rows], compute_uv=False)[:, -1]
     assert s.min() >= 0.01 * 0.99
+
+
+def test_margin_gradient_is_the_direction_from_the_nearest_point():
+    w = _window()
+    rng = np.random.default_rng(5)
+    for q in rng.uniform(-1, 1, size=(20, 4)):
+        x = q[[1, 3]]
+        k = np.argmin(np.linalg.norm(w.points - x, axis=1))
+        d = np.linalg.norm(w.points[k] - x)
+        m, g = w.margin_and_gradient(q)
+        assert abs(m - (d - 0.05)) < 1e-12 and np.allclose(g, (x - w.points[k]) / d, atol=1e-5)
+
+
+def test_planning_and_checking_use_numeric_windows(puma_numeric):
+    from planning.ompl import plan
+    from planning.ompl.validity import JointSpaceChecker
+    from planning.validate import check_path
+    robot, a = puma_numeric
+    ws = build_windows(robot, margin=0.05, analysis=a)
+    checker = JointSpaceChecker(robot, ws)
+    Q = robot.random_configurations(3000, seed=8)
+    inside = ws.contains(Q)
+    assert inside.any() and not inside.all()
+    assert [checker.state_valid(list(q)) for q in Q] == list(~inside)
+    assert np.array_equal(checker.batch_valid(Q), ~inside)
+    # start and goal on the same side of every exact factor (the windows split the joint space)
+    free = Q[~inside]
+    side = np.sign(analyse_singularities(robot).values(free))
+    same = free[np.all(side == side[0], axis=1)]
+    d = np.linalg.norm(same - same[0], axis=1)
+    start, goal = same[0], same[np.argsort(d)[len(d) // 2]]
+    res = plan(robot, start, goal, ws, planner="RRTConnect", time_limit=5.0, seed=0)
+    assert res.success
+    report = check_path(robot, res.path, ws)
+    assert report.valid
+    # a straight line through the shoulder set is refused by check_path, naming the window
+    f = [w for w in ws.windows if isinstance(w, PointSetWindow)][0]
+    p = np.zeros(6)
+    p[[j - 1 for j in f.joints]] = f.points[len(f.points) // 2]
+    p[4] = 0.8                                      # away from the wrist window
+    line = np.linspace(p - 0.2 * np.eye(6)[1], p + 0.2 * np.eye(6)[1], 50)
+    bad = check_path(robot, line, ws)
+    assert not bad.valid and bad.first_violation.kind == "window"
