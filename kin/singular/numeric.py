@@ -39,6 +39,8 @@ SUPPORT_TOL = 1e-5
 MIN_GROUP_SHARE = 0.02
 #: longest Gauss–Newton step (rad or m)
 MAX_STEP = 0.3
+#: how far beyond the joint limits :meth:`SingularComponent.absorb` follows the set (rad or m)
+ABSORB_SLACK = 0.5
 #: a sample's tangent disc reaches its this-many-th nearest sample
 DISC_NEIGHBOURS = 3
 KINDS = ("wrist", "elbow", "shoulder", "boundary", "prismatic", "other")
@@ -69,6 +71,7 @@ class SingularComponent:
     kind_shares: dict = field(default_factory=dict)
     resolution: float = math.nan
     codimension: int = 1
+    tolerance: float = 1e-10
     multiplicity: int = 1
     block: str = "numeric"
     _tree: cKDTree | None = field(default=None, repr=False, compare=False)
@@ -130,6 +133,28 @@ class SingularComponent:
             self._radius = np.zeros(len(self.points))
             self._radius = self.radius
         return sampled_distance(self._tree, self.local_normals, self._radius, Q2[:, cols])
+
+    def absorb(self, robot, Q, limit: int = 2000, seed: int = 0) -> int:
+        """Project configurations (N, n) onto the singular set and keep, as new points of this
+        component, those landing on it (same joints) — filling the sampling gaps near ``Q`` (the
+        dexterity windows use it where σ_min is low far from every sample).  Returns how many."""
+        Q = np.asarray(Q, dtype=float).reshape(-1, self.n)
+        if len(Q) == 0 or len(self.points) == 0:
+            return 0
+        far = np.argsort(-self.distance(Q))[:limit]
+        # the set beyond the joint limits counts too: a configuration near a limit may be nearest to it
+        Qp, ok = project(robot, Q[far], tol=self.tolerance, slack=ABSORB_SLACK)
+        Qp = Qp[ok]
+        if len(Qp) == 0:
+            return 0
+        _, _, G, _, _ = _residuals(robot, Qp)
+        supp, nrm = _support(G)
+        same = np.all(supp == np.isin(np.arange(self.n), [j - 1 for j in self.joints])[None], axis=1)
+        if same.any():
+            self.points = np.concatenate([self.points, Qp[same]])
+            self.normals = np.concatenate([self.normals, nrm[same]])
+            self._tree = self._radius = None
+        return int(same.sum())
 
     def normal_at(self, Q) -> np.ndarray:
         """Unit normal of the set (N, n) at the sampled point nearest each configuration (N, n)."""
@@ -196,10 +221,11 @@ def _residuals(robot, Q: np.ndarray):
 
 
 def project(robot, Q0: np.ndarray, iterations: int = 40, tol: float = 1e-10,
-            deadline: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+            deadline: float | None = None, slack: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """Gauss–Newton projection of configurations (N, n) onto the singular set, inside the joint
-    limits → (projected Q, converged mask).  ``tol``: σ_min accepted as zero (SI)."""
-    lo, hi = robot.chain.lower, robot.chain.upper
+    limits widened by ``slack`` (rad or m) → (projected Q, converged mask).  ``tol``: σ_min
+    accepted as zero (SI)."""
+    lo, hi = robot.chain.lower - slack, robot.chain.upper + slack
     Q = np.clip(np.array(Q0, dtype=float), lo, hi)
     active = np.ones(len(Q), bool)
     sigma = np.full(len(Q), np.inf)
@@ -430,7 +456,7 @@ def numeric_components(robot, samples: int = 1024, seed: int = 0, time_limit: fl
                          "samples": np.round(P[:5], 9).tolist(), "numeric": True}
         Uc = _residuals(robot, use)[3]
         comp = SingularComponent(kind=kind, joints=tuple(int(j) + 1 for j in own), meaning=f"{names}: {MEANINGS[kind]}",
-                                 solutions=solutions, n=n, points=P, normals=Nrm, codimension=codim,
+                                 solutions=solutions, n=n, points=P, normals=Nrm, codimension=codim, tolerance=tol,
                                  lost_motion=_lost_motion(robot, use, Uc),
                                  kind_shares={k: v / len(use) for k, v in votes.items()})
         comp.resolution = _resolution(robot, comp, tol, rng, deadline + 5.0) if len(own) > 1 else 0.0

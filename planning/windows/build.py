@@ -148,7 +148,10 @@ def dexterity_margins(robot, analysis: SingularityAnalysis, threshold: float, me
     every window is charged to the factor it is nearest to (in that window's metric), whose margin
     grows to include it; this repeats until no sample is left.  Raises :class:`WindowError` when a
     margin would exceed half the range of the factor's joints (the threshold is too high for this
-    machine: its σ_min stays below it far from any singularity).
+    machine: its σ_min stays below it far from any singularity).  A component of a numeric
+    analysis first absorbs the low samples' projections onto the singular set as new points
+    (:meth:`~kin.singular.numeric.SingularComponent.absorb`; ``analysis`` is updated in place), so
+    that a gap between its sampled points does not count as distance from the set.
     """
     if measure not in ("sigma_min", "manipulability"):
         raise WindowError(f"dexterity measure {measure!r} unknown; allowed: sigma_min, manipulability")
@@ -187,6 +190,11 @@ def dexterity_margins(robot, analysis: SingularityAnalysis, threshold: float, me
         Ql = Qs[res["measures"][:, col] < threshold * BUILD_MARGIN]
         if len(Ql) and not factors:
             raise WindowError(too_high)
+        for f in factors:
+            # a sampled component has gaps between its points: low configurations far from them
+            # are projected onto the set first, so that the margin covers the set, not the gaps
+            if _sampled(f):
+                f.absorb(robot, Ql)
         dist = np.stack([_window_distance(f, Ql, g) for f, g in zip(factors, grad_max)], axis=1) \
             if factors else np.zeros((0, 0))
         for _ in range(max_rounds):

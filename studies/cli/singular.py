@@ -6,7 +6,7 @@ import kin
 from kin.singular import DEFAULT_EXACT_TIMEOUT, analyse_singularities
 from planning.windows import WindowSet, build_windows
 
-from studies.cli.common import dump, factor_margins
+from studies.cli.common import CliInputError, dump, factor_margins
 from studies.cli.progress import TerminalProgress
 from studies.units import unit_names
 
@@ -98,6 +98,10 @@ def cmd_windows(args, load_robot) -> int:
     elif args.sigma_min is not None:
         ws = build_windows(robot, sigma_min=args.sigma_min, analysis=analysis, seed=args.seed)
     else:
+        if analysis.method != "exact":
+            raise CliInputError(f"--learned needs the exact singular factors; the exact analysis of {c.name} did not "
+                                f"finish within --exact-timeout {args.exact_timeout:g} s (give more, or use "
+                                "--margin or --sigma-min)")
         from design.learned.windows import jsonable_report, learned_windows
         ws, reports = learned_windows(robot, analysis=analysis, seed=args.seed)
         reports = [jsonable_report(r) for r in reports]
