@@ -155,3 +155,19 @@ def test_planning_and_checking_use_numeric_windows(puma_numeric):
     line = np.linspace(p - 0.2 * np.eye(6)[1], p + 0.2 * np.eye(6)[1], 50)
     bad = check_path(robot, line, ws)
     assert not bad.valid and bad.first_violation.kind == "window"
+
+
+def test_sigma_min_windows_of_a_general_chain():
+    """A 6R without spherical wrist: the exact path is cut, the numeric component's window keeps
+    σ_min ≥ the threshold outside it on fresh samples (numpy SVD), all but a sampling remainder."""
+    from tests.kin.singular.test_numeric import GENERAL_6R, chain_robot
+    robot = chain_robot("general_6r", GENERAL_6R)
+    a = analyse_singularities(robot, exact_timeout=1.0, numeric_time=20.0)
+    assert a.method == "numeric"
+    ws = build_windows(robot, sigma_min=0.002, analysis=a)
+    assert [type(w) for w in ws.windows] == [PointSetWindow]
+    Q = robot.random_configurations(20000, seed=21)
+    out = ~ws.contains(Q)
+    s = np.linalg.svd(robot.jacobian(Q[out]), compute_uv=False)[:, -1]
+    assert out.mean() > 0.5                         # the window is a neighbourhood, not the whole space
+    assert np.mean(s < 0.002) < 5e-4

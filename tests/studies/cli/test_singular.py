@@ -101,6 +101,8 @@ def test_singularities_of_a_general_chain_say_numeric(capsys, tmp_path, monkeypa
                        "--out", str(tmp_path / "w.json"))
     assert code == 0 and "sampled points" in out
     assert WindowSet.load(tmp_path / "w.json").windows[0].is_point_set
+    code, out, err = run(capsys, "windows", str(path), "--learned", "--exact-timeout", "1")
+    assert code == 2 and out == "" and err.count("\n") == 1 and "--exact-timeout" in err
 
 
 @pytest.mark.parametrize("value", ["-1", "nan", "1e9"])
