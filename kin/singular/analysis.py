@@ -31,21 +31,22 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
+import sympy as sp
 
 from kin.chain import Chain
 from kin.singular import cache
 from kin.singular.budget import DEFAULT_MEMORY, BudgetError, check_budget, run_with_budget
 from kin.singular.determinant import ROW_NAMES, derivation_text, wrist_centre
-from kin.singular.exact import (StructureError, content_key, exact_structure, numeric_form, rebuild, trig_form,
-                                validate_structure)
+from kin.singular.exact import (StructureError, content_key, exact_structure, from_tree, numeric_form, rebuild,
+                                trig_form, validate_structure)
 from kin.singular.kinds import classify
 from kin.singular.numeric import KINDS, Progress, SingularComponent, numeric_components
-from kin.singular.solve import lambdify_factor, pretty, sample_zero_set, single_joint_solutions
+from kin.singular.solve import display_text, lambdify_factor, sample_zero_set
 
 #: default budget of the exact path (s); the bundled robots need 0.1–2.5 s on one core
 DEFAULT_EXACT_TIMEOUT = 8.0
 #: default budget of the numeric path (s)
-DEFAULT_NUMERIC_TIME = 30.0
+DEFAULT_NUMERIC_TIME = 20.0
 
 
 @dataclass
@@ -133,10 +134,10 @@ class SingularityAnalysis:
 
 
 def _exact_structure(robot, exact_timeout: float, exact_memory: int, use_cache: bool,
-                     say: Progress) -> tuple[dict | None, dict]:
+                     say: Progress, read_cache: bool = True) -> tuple[dict | None, dict]:
     """The factored determinant as data (from the cache or a budgeted worker) and what it cost."""
     key = content_key(robot)
-    if use_cache:
+    if use_cache and read_cache:
         cached = cache.load_cached(robot, key)
         if cached is not None:
             return cached, {"exact_status": "cached", "exact_seconds": 0.0}
@@ -156,24 +157,54 @@ def _exact_structure(robot, exact_timeout: float, exact_memory: int, use_cache: 
     return structure, info
 
 
+def _consistent(fn, display: sp.Expr, n: int, lower, upper, rng) -> bool:
+    """Whether a stored display expression equals the factor (evaluated at random configurations)."""
+    fd, _ = lambdify_factor(display, n)
+    Q = rng.uniform(lower, upper, size=(8, n))
+    a, b = fn(Q), fd(Q)
+    return bool(np.all(np.isfinite(b)) and np.allclose(a, b, rtol=1e-6, atol=1e-9 * (1 + np.abs(a).max())))
+
+
+def _roots_hold(fn, values: list[float], j: int, n: int, lo: float, hi: float) -> bool:
+    """Whether stored roots of a one-joint factor lie inside [lo, hi] and are zeros of it."""
+    grid = np.zeros((200, n))
+    grid[:, j] = np.linspace(lo, hi, 200)
+    scale = max(float(np.abs(fn(grid)).max()), 1e-300)
+    Q = np.zeros((len(values), n))
+    Q[:, j] = values
+    return bool(all(lo - 1e-9 <= v <= hi + 1e-9 for v in values)
+                and (len(values) == 0 or np.abs(fn(Q)).max() <= 1e-7 * scale))
+
+
 def _exact_factors(robot, structure: dict, samples: int, rng) -> tuple[list[SingularFactor], dict]:
+    """The factors of a validated structure; raises :class:`StructureError` when its stored display
+    forms or roots do not agree with its polynomials (a foreign or damaged cache file)."""
     chain: Chain = robot.chain
     n = chain.n
     polys, lengths, qsyms = rebuild(structure)
     wc = wrist_centre(robot) if structure["split"] == "wrist" else None
     lower, upper = chain.lower, chain.upper
+    check = np.random.default_rng(99)
     factors: list[SingularFactor] = []
-    for g, mult, block in polys:
+    for (g, mult, block), stored in zip(polys, structure["factors"]):
         sym_trig = trig_form(g, n)
         num_trig = numeric_form(sym_trig, lengths)
-        if pretty(num_trig).startswith("-"):      # g and −g have the same zero set
+        if stored["negated"]:                    # g and −g have the same zero set
             sym_trig, num_trig = -sym_trig, -num_trig
         joints = tuple(sorted(i + 1 for i in range(n) if qsyms[i] in num_trig.free_symbols))
         fn, grad_fn = lambdify_factor(num_trig, n)
+        shown = from_tree(stored["display"]["num"], n)
+        shown_sym = from_tree(stored["display"]["sym"], n)
+        if not _consistent(fn, shown, n, lower, upper, check) or \
+                not _consistent(fn, numeric_form(shown_sym, lengths), n, lower, upper, check):
+            raise StructureError("a stored display form does not match its factor")
         if len(joints) == 1:
             j = joints[0] - 1
-            values, exact = single_joint_solutions(chain, num_trig, j, lower[j], upper[j], fn)
-            solutions = {"type": "values", "joint": joints[0], "values": values, "exact": exact}
+            roots = stored["roots"]
+            if roots is None or not _roots_hold(fn, roots["values"], j, n, lower[j], upper[j]):
+                raise StructureError("stored roots are missing or are not zeros of their factor")
+            values = [float(v) for v in roots["values"]]
+            solutions = {"type": "values", "joint": joints[0], "values": values, "exact": list(roots["labels"])}
             per = max(1, samples // max(len(values), 1))
             S = []
             for v in values:
@@ -188,7 +219,7 @@ def _exact_factors(robot, structure: dict, samples: int, rng) -> tuple[list[Sing
             solutions = {"type": "manifold", "solve_for": joints[-1], "count": int(len(S)),
                          "ranges": ranges, "samples": np.round(S[:5], 9).tolist()}
         kind, meaning = classify(robot, joints, block, S, wc)
-        factors.append(SingularFactor(expr=pretty(num_trig), symbolic=pretty(sym_trig), kind=kind,
+        factors.append(SingularFactor(expr=display_text(shown), symbolic=display_text(shown_sym), kind=kind,
                                       joints=joints, meaning=meaning, multiplicity=int(mult), block=block,
                                       solutions=solutions, n=n, fn=fn, grad_fn=grad_fn, samples=S))
     return factors, {str(k): v for k, v in lengths.items()}
@@ -216,8 +247,23 @@ def analyse_singularities(robot, samples: int = 200, seed: int = 0, exact_timeou
     structure, budget = _exact_structure(robot, float(exact_timeout), exact_memory, use_cache, say)
     budget["exact_timeout"] = float(exact_timeout)
     rng = np.random.default_rng(seed)
+    factors = None
     if structure is not None:
-        factors, lengths = _exact_factors(robot, structure, samples, rng)
+        try:
+            factors, lengths = _exact_factors(robot, structure, samples, rng)
+        except StructureError as e:
+            if budget["exact_status"] != "cached":
+                budget.update({"exact_status": "error", "exact_detail": str(e)})
+            else:        # a cache file that passed the schema but not the checks: recompute once
+                structure, budget = _exact_structure(robot, float(exact_timeout), exact_memory, use_cache, say,
+                                                     read_cache=False)
+                budget["exact_timeout"] = float(exact_timeout)
+                if structure is not None:
+                    try:
+                        factors, lengths = _exact_factors(robot, structure, samples, rng)
+                    except StructureError as e2:
+                        budget.update({"exact_status": "error", "exact_detail": str(e2)})
+    if factors is not None:
         order = {k: i for i, k in enumerate(KINDS)}
         factors.sort(key=lambda f: (order[f.kind], f.joints))
         return SingularityAnalysis(robot=chain.name, factors=factors, method="exact",

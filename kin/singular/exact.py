@@ -20,15 +20,22 @@ import sympy as sp
 
 from kin.errors import RmtError
 from kin.singular.determinant import BLOCKS, SPLITS, det_and_blocks, reduce_factors
+from kin.singular.solve import display_form, display_text, lambdify_factor, single_joint_solutions
 from kin.singular.sympy_model import SympyChain
 
 FORMAT = "rmtkit-singular-exact"
-VERSION = 1
+VERSION = 2
 #: size limits of a structure (a real chain stays far below them)
 MAX_FACTORS = 64
 MAX_TERMS = 200_000
 MAX_DIGITS = 4000
+MAX_NODES = 20_000
+MAX_DEPTH = 64
+MAX_ROOTS = 1000
+_NODE_ARITY = {"add": None, "mul": None, "pow": 2, "sin": 1, "cos": 1}
+_LABEL = re.compile(r"^(?:[0-9.]+(?:e[-+]?[0-9]+)?|pi|atan|asin|acos|sqrt|[-+*/() ])+$")
 _JOINT_SYMBOL = re.compile(r"^([csq])([1-9][0-9]{0,2})$")
+_TREE_SYMBOL = re.compile(r"^([qad])([1-9][0-9]{0,2})$")
 _LENGTH_SYMBOL = re.compile(r"^([ad])([1-9][0-9]{0,2})$")
 _RATIONAL = re.compile(r"^-?[0-9]{1,%d}(/[1-9][0-9]{0,%d})?$" % (MAX_DIGITS, MAX_DIGITS))
 
@@ -38,14 +45,16 @@ class StructureError(RmtError, ValueError):
 
 
 def content_key(robot) -> str:
-    """Hash of everything the exact factors depend on: the chain's frozen DH table, joint types,
-    convention, base and tool, task rows, and the versions of this format and of sympy."""
+    """Hash of everything the exact factors and their roots depend on: the chain's frozen DH table,
+    joint types, convention, base and tool, task rows, joint limits, and the versions of this format
+    and of sympy."""
     chain = robot.chain.frozen()
     content = {"format": FORMAT, "version": VERSION, "sympy": sp.__version__, "convention": chain.convention,
                "types": list(chain.joint_types), "dh": [[repr(float(x)) for x in row] for row in chain.dh_table()],
                "base": [repr(float(x)) for x in chain.base.matrix.ravel()],
                "tool": [repr(float(x)) for x in chain.tool.matrix.ravel()],
-               "rows": [int(r) for r in robot.task_rows]}
+               "rows": [int(r) for r in robot.task_rows],
+               "limits": [[repr(float(lo)), repr(float(hi))] for lo, hi in zip(chain.lower, chain.upper)]}
     return hashlib.sha256(json.dumps(content, sort_keys=True).encode()).hexdigest()[:24]
 
 
@@ -63,6 +72,7 @@ def exact_structure(robot) -> dict:
     by_name = {str(s): s for s in (*model.c, *model.s, *model.q, *model.lengths)}
     gens = [by_name[g] for g in gens_names]
     factors = []
+    chain = robot.chain
     for poly, block in blocks:
         for g, mult in reduce_factors(model, poly):
             terms = []
@@ -71,7 +81,23 @@ def exact_structure(robot) -> dict:
                     c = sp.Rational(coeff)
                     terms.append([[[k, int(e)] for k, e in enumerate(monom) if e], f"{c.p}" if c.q == 1
                                   else f"{c.p}/{c.q}"])
-            factors.append({"block": block, "multiplicity": int(mult), "terms": terms})
+            # what the parent would otherwise redo on every call: the display forms (trigsimp) and
+            # the roots of one-joint factors (sympy's solve for their exact forms)
+            sym_trig = trig_form(g, robot.n)
+            num_trig = numeric_form(sym_trig, model.lengths)
+            negated = display_text(display_form(num_trig)).startswith("-")   # g and −g: the same zero set
+            if negated:
+                sym_trig, num_trig = -sym_trig, -num_trig
+            joints = [i for i in range(robot.n) if model.q[i] in num_trig.free_symbols]
+            roots = None
+            if len(joints) == 1:
+                j = joints[0]
+                fn, _ = lambdify_factor(num_trig, robot.n)
+                values, labels = single_joint_solutions(chain, num_trig, j, chain.lower[j], chain.upper[j], fn)
+                roots = {"values": [float(v) for v in values], "labels": labels}
+            factors.append({"block": block, "multiplicity": int(mult), "terms": terms, "negated": bool(negated),
+                            "display": {"num": to_tree(display_form(num_trig)),
+                                        "sym": to_tree(display_form(sym_trig))}, "roots": roots})
     return {"format": FORMAT, "version": VERSION, "n": robot.n, "split": split, "lengths_numeric": bool(numeric),
             "rows": [int(r) for r in rows], "lengths": lengths, "generators": gens_names, "factors": factors}
 
@@ -114,8 +140,27 @@ def validate_structure(d, n: int, rows: tuple[int, ...]) -> dict:
     total = 0
     for i, f in enumerate(factors):
         where = f"factors[{i}]"
-        if not isinstance(f, dict) or set(f) != {"block", "multiplicity", "terms"}:
-            raise StructureError(f"{where} must have exactly block, multiplicity and terms")
+        if not isinstance(f, dict) or set(f) != {"block", "multiplicity", "terms", "negated", "display", "roots"}:
+            raise StructureError(f"{where} must have exactly block, multiplicity, terms, negated, display and roots")
+        if not isinstance(f["negated"], bool):
+            raise StructureError(f"{where}.negated must be true or false")
+        disp = f["display"]
+        if not isinstance(disp, dict) or set(disp) != {"num", "sym"}:
+            raise StructureError(f"{where}.display must have exactly num and sym")
+        for k in ("num", "sym"):
+            from_tree(disp[k], n, f"{where}.display.{k}")
+        roots = f["roots"]
+        if roots is not None:
+            if not (isinstance(roots, dict) and set(roots) == {"values", "labels"}
+                    and isinstance(roots["values"], list) and isinstance(roots["labels"], list)
+                    and len(roots["values"]) == len(roots["labels"]) <= MAX_ROOTS):
+                raise StructureError(f"{where}.roots must be null or {{values, labels}} of equal length")
+            for v in roots["values"]:
+                if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                    raise StructureError(f"{where}.roots.values must be finite numbers")
+            for lab in roots["labels"]:
+                if not (isinstance(lab, str) and len(lab) <= 200 and _LABEL.match(lab)):
+                    raise StructureError(f"{where}.roots.labels must be numbers or pi/atan/asin/acos/sqrt forms")
         if f["block"] not in BLOCKS:
             raise StructureError(f"{where}.block must be one of {', '.join(BLOCKS)}")
         _int(f["multiplicity"], f"{where}.multiplicity", 1, 1000)
@@ -143,7 +188,8 @@ def validate_structure(d, n: int, rows: tuple[int, ...]) -> dict:
 
 def rebuild(d: dict) -> tuple[list[tuple[sp.Expr, int, str]], dict[sp.Symbol, float], tuple[sp.Symbol, ...]]:
     """A validated structure → ([(g in c, s, q and lengths, multiplicity, block)], {length symbol:
-    value}, (q1 … qn)).  No text is evaluated: symbols are made by name, coefficients by Fraction."""
+    value}, (q1 … qn)).  No text is evaluated: symbols are made by name, coefficients by Fraction.
+    (The display trees and roots are read by the analysis, with :func:`from_tree`.)"""
     n = d["n"]
     syms = [sp.Symbol(name, real=True) for name in d["generators"]]
     out = []
@@ -156,6 +202,63 @@ def rebuild(d: dict) -> tuple[list[tuple[sp.Expr, int, str]], dict[sp.Symbol, fl
         out.append((sp.Add(*terms), f["multiplicity"], f["block"]))
     lengths = {syms[3 * n + i]: float(d["lengths"][name]) for i, name in enumerate(d["generators"][3 * n:])}
     return out, lengths, tuple(syms[2 * n:3 * n])
+
+
+def to_tree(e: sp.Expr) -> list:
+    """A display expression as a JSON tree (``["add", …]``, ``["mul", …]``, ``["pow", b, e]``,
+    ``["sin", x]``, ``["cos", x]``, ``["sym", "q3"]``, ``["num", "p/q"]``, ``["float", "0.25"]``,
+    ``["pi"]``), rebuilt by :func:`from_tree` without parsing any expression text."""
+    if e.is_Symbol:
+        return ["sym", e.name]
+    if e is sp.pi:
+        return ["pi"]
+    if e.is_Rational:
+        return ["num", f"{e.p}" if e.q == 1 else f"{e.p}/{e.q}"]
+    if e.is_Float:
+        return ["float", repr(float(e))]
+    for name, cls in (("add", sp.Add), ("mul", sp.Mul), ("pow", sp.Pow), ("sin", sp.sin), ("cos", sp.cos)):
+        if isinstance(e, cls):
+            return [name, *[to_tree(a) for a in e.args]]
+    raise StructureError(f"cannot store {type(e).__name__} in a display tree")
+
+
+def from_tree(t, n: int, where: str = "tree") -> sp.Expr:
+    """Rebuild (and check) a :func:`to_tree` tree: known node kinds only, symbols q1…qn and length
+    symbols a1…/d1…, numbers read by :class:`~fractions.Fraction` or ``float``; at most
+    :data:`MAX_NODES` nodes, :data:`MAX_DEPTH` deep."""
+    count = [0]
+
+    def build(t, depth):
+        count[0] += 1
+        if count[0] > MAX_NODES or depth > MAX_DEPTH:
+            raise StructureError(f"{where}: more than {MAX_NODES} nodes or deeper than {MAX_DEPTH}")
+        if not (isinstance(t, list) and t and isinstance(t[0], str)):
+            raise StructureError(f"{where}: a node must be a list starting with its kind")
+        kind, args = t[0], t[1:]
+        if kind == "sym":
+            m = _TREE_SYMBOL.match(args[0]) if len(args) == 1 and isinstance(args[0], str) else None
+            if not m or int(m.group(2)) > n:
+                raise StructureError(f"{where}: symbol {args!r} is not q1…q{n}, a1…a{n} or d1…d{n}")
+            return sp.Symbol(args[0], real=True)
+        if kind == "pi" and not args:
+            return sp.pi
+        if kind == "num" and len(args) == 1 and isinstance(args[0], str) and _RATIONAL.match(args[0]):
+            fr = Fraction(args[0])
+            return sp.Rational(fr.numerator, fr.denominator)
+        if kind == "float" and len(args) == 1 and isinstance(args[0], str) and len(args[0]) <= 40:
+            try:
+                x = float(args[0])
+            except ValueError:
+                x = math.nan
+            if math.isfinite(x):
+                return sp.Float(x, 15)
+        if kind in _NODE_ARITY and args and (_NODE_ARITY[kind] is None or len(args) == _NODE_ARITY[kind]):
+            sub = [build(a, depth + 1) for a in args]
+            return {"add": lambda: sp.Add(*sub), "mul": lambda: sp.Mul(*sub), "pow": lambda: sp.Pow(*sub),
+                    "sin": lambda: sp.sin(*sub), "cos": lambda: sp.cos(*sub)}[kind]()
+        raise StructureError(f"{where}: node {kind!r} with {len(args)} arguments is not allowed")
+
+    return build(t, 0)
 
 
 def trig_form(g: sp.Expr, n: int) -> sp.Expr:

@@ -11,8 +11,9 @@ from scipy.optimize import brentq, minimize_scalar
 
 
 
-def pretty(expr: sp.Expr) -> str:
-    """Readable form: floats with up to 6 significant digits, trig combined when it shortens it."""
+def display_form(expr: sp.Expr) -> sp.Expr:
+    """The expression as shown: trig combined when it shortens it (sympy's trigsimp: slow, so the
+    budgeted worker does it)."""
     e = expr
     if len(sp.Add.make_args(e)) <= 12:
         try:
@@ -21,9 +22,18 @@ def pretty(expr: sp.Expr) -> str:
                 e = t
         except Exception:  # noqa: BLE001 - trigsimp is cosmetic
             pass
+    return e
+
+
+def display_text(e: sp.Expr) -> str:
+    """Text of a :func:`display_form`: floats with up to 6 significant digits."""
     e = e.xreplace({x: sp.Float(float(x), 15) for x in e.atoms(sp.Number) if not x.is_Integer})
-    s = sp.sstr(e, full_prec=False)
-    return s
+    return sp.sstr(e, full_prec=False)
+
+
+def pretty(expr: sp.Expr) -> str:
+    """Readable form: floats with up to 6 significant digits, trig combined when it shortens it."""
+    return display_text(display_form(expr))
 
 
 def lambdify_factor(expr: sp.Expr, n: int):

@@ -74,7 +74,8 @@ def test_a_changed_chain_is_not_served_from_the_cache(counted):
 
 
 @pytest.mark.parametrize("damage", ["garbage", "foreign_key", "bad_coefficient", "bad_generator", "bad_exponent",
-                                    "extra_field", "truncated"])
+                                    "extra_field", "truncated", "display_mismatch", "bad_node", "wrong_root",
+                                    "label_text"])
 def test_damaged_cache_file_is_ignored_and_recomputed(counted, damage):
     tmp_path, calls = counted
     robot = kin.load_robot("scara_rrp")
@@ -99,9 +100,23 @@ def test_damaged_cache_file_is_ignored_and_recomputed(counted, damage):
     elif damage == "extra_field":
         s["factors"][0]["expr"] = "sin(q1)"
         path.write_text(json.dumps(record))
+    elif damage == "display_mismatch":          # well-formed, but not the factor: caught by evaluating both
+        s["factors"][0]["display"]["num"] = ["cos", ["sym", "q1"]]
+        path.write_text(json.dumps(record))
+    elif damage == "bad_node":
+        s["factors"][0]["display"]["num"] = ["call", ["sym", "os.system"]]
+        path.write_text(json.dumps(record))
+    elif damage == "wrong_root":
+        s["factors"][0]["roots"]["values"] = [0.123]
+        s["factors"][0]["roots"]["labels"] = ["0.123"]
+        path.write_text(json.dumps(record))
+    elif damage == "label_text":
+        s["factors"][0]["roots"]["labels"][0] = "__import__('os')"
+        path.write_text(json.dumps(record))
     else:
         path.write_text(path.read_text()[:40])
-    assert cache.load_cached(robot, content_key(robot)) is None
+    if damage not in ("display_mismatch", "wrong_root"):      # schema errors: refused on load
+        assert cache.load_cached(robot, content_key(robot)) is None
     again = analyse_singularities(robot)
     assert len(calls) == 2 and again.budget["exact_status"] == "done"
     assert _factors(again) == _factors(good)
