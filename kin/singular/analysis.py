@@ -40,7 +40,7 @@ from kin.singular.determinant import ROW_NAMES, derivation_text, wrist_centre
 from kin.singular.exact import (StructureError, content_key, exact_structure, from_tree, numeric_form, rebuild,
                                 trig_form, validate_structure)
 from kin.singular.kinds import classify
-from kin.singular.numeric import KINDS, Progress, SingularComponent, numeric_components
+from kin.singular.numeric import KINDS, Progress, numeric_components
 from kin.singular.solve import display_text, lambdify_factor, sample_zero_set
 
 #: default budget of the exact path (s); the bundled robots need 0.1–2.5 s on one core

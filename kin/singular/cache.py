@@ -1,9 +1,13 @@
 """The disk cache of exact analyses: one JSON file per chain, keyed by the chain's content
 (:func:`kin.singular.exact.content_key`), in ``singular/`` under the compiled-code cache directory
-(:func:`kin.compiled.cache_dir`).
+(:func:`kin.compiled.cache_dir`).  A file holds the factored determinant as monomial lists, each
+factor's display form as an expression tree and the roots of one-joint factors — data, never
+expression text to evaluate.
 
 A file is trusted only after :func:`kin.singular.exact.validate_structure` accepts it and its key
-matches; a corrupted, truncated or foreign file is ignored (and replaced by the next store).
+matches, and the analysis then checks its display forms and roots against its polynomials
+numerically; a corrupted, truncated, foreign or inconsistent file is ignored (and replaced by the
+next store).
 Writes are atomic (a temporary file in the same directory, then a rename).
 """
 from __future__ import annotations

@@ -37,7 +37,7 @@ def numeric_axes(robot, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.array(Z), np.array(O)
 
 
-def _closest_point(z1, o1, z2, o2) -> tuple[np.ndarray, float]:
+def closest_point(z1, o1, z2, o2) -> tuple[np.ndarray, float]:
     """Midpoint of the closest points of two lines and their distance (inf when parallel)."""
     w = o1 - o2
     a, b, c = z1 @ z1, z1 @ z2, z2 @ z2
@@ -64,8 +64,8 @@ def wrist_centre(robot, seed: int = 0) -> tuple[int, np.ndarray] | None:
     frames = robot.symbolic.frames_function
     local = []
     for q, z, o in zip(Q, Z, O):
-        p1, d1 = _closest_point(z[n - 3], o[n - 3], z[n - 2], o[n - 2])
-        p2, d2 = _closest_point(z[n - 2], o[n - 2], z[n - 1], o[n - 1])
+        p1, d1 = closest_point(z[n - 3], o[n - 3], z[n - 2], o[n - 2])
+        p2, d2 = closest_point(z[n - 2], o[n - 2], z[n - 1], o[n - 1])
         if d1 > 1e-9 or d2 > 1e-9 or np.linalg.norm(p1 - p2) > 1e-9:
             return None
         F = np.array(frames(q, chain.parameter_values)[0])

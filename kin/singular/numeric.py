@@ -2,21 +2,18 @@
 finish within its budget.
 
 1. Sobol samples of the joint space (``scipy.stats.qmc``) are projected onto the singular set by
-   Gauss–Newton: with U, S, V the SVD of the task Jacobian J (m × n, r = min(m, n)), the residuals
-   h_ab = u_aᵀ J v_b over the near-null left vectors u_a (columns r…m of U) and right vectors v_b
-   (columns r…n of V) vanish exactly where rank J < r; their gradients ∂h_ab/∂q_k = u_aᵀ ∂_k J v_b
-   (∂_k J by central differences of the compiled Jacobian) span the normal space of the set.  For
-   a square J this is Newton on the signed σ_min; for a redundant arm (n > m) it is the set where
-   J·Jᵀ is singular, of codimension n − m + 1.
+   Gauss–Newton (:mod:`kin.singular.projection`; for a redundant arm the set where J·Jᵀ is
+   singular).
 2. Each converged point's *support* — the joints whose direction is not tangent to the set, i.e.
    the joints the component depends on — is read off the normal space (the gradient of σ_min on
-   the set).  Points are grouped by support; a group is one component.
+   the set).  Points are grouped by support; a group is one component, densified by projecting
+   more starts within its own joints.
 3. Each component is described: its joints; for a one-joint component the joint values of its
    sheets (q_j = r); the lost motion (the left singular vector u in the tool frame: the tool
    direction the arm cannot move in); a name where the geometry says one (wrist: two of the last
    three axes parallel; elbow: the arm stretched or folded — the lost motion comes from parallel
    axes; shoulder: the wrist centre on the axis of joint 1, or joint 1 in the positioning null
-   motion); sample points on the set, in the component's own joint coordinates.
+   motion; :mod:`kin.singular.kinds`); sample points on the set.
 """
 from __future__ import annotations
 
@@ -29,16 +26,12 @@ import numpy as np
 from scipy.spatial import cKDTree
 from scipy.stats import qmc
 
-from kin.singular.determinant import ROW_NAMES, _closest_point, wrist_centre
+from kin.singular.determinant import wrist_centre
+from kin.singular.kinds import NUMERIC_MEANINGS, axis_lines, lost_motion, name_point, parallel
+from kin.singular.projection import project, residuals, support
 
-#: finite-difference step of ∂J/∂q (rad or m)
-FD_STEP = 1e-6
-#: a joint belongs to a component's support when its normal component exceeds this share
-SUPPORT_TOL = 1e-5
 #: a group smaller than this share of the converged points is merged into a larger one
 MIN_GROUP_SHARE = 0.02
-#: longest Gauss–Newton step (rad or m)
-MAX_STEP = 0.3
 #: how far beyond the joint limits :meth:`SingularComponent.absorb` follows the set (rad or m)
 ABSORB_SLACK = 0.5
 #: a sample's tangent disc reaches its this-many-th nearest sample
@@ -147,8 +140,8 @@ class SingularComponent:
         Qp = Qp[ok]
         if len(Qp) == 0:
             return 0
-        _, _, G, _, _ = _residuals(robot, Qp)
-        supp, nrm = _support(G)
+        _, _, G, _, _ = residuals(robot, Qp)
+        supp, nrm = support(G)
         same = np.all(supp == np.isin(np.arange(self.n), [j - 1 for j in self.joints])[None], axis=1)
         if same.any():
             self.points = np.concatenate([self.points, Qp[same]])
@@ -186,170 +179,6 @@ def sampled_distance(tree: cKDTree, normals: np.ndarray | None, radius: np.ndarr
     h = np.einsum("nkd,nkd->nk", D, normals[idx])
     t = np.sqrt(np.maximum(np.einsum("nkd,nkd->nk", D, D) - h * h, 0.0))
     return np.sqrt(h * h + np.maximum(t - radius[idx], 0.0) ** 2).min(axis=1)
-
-
-# ---- Jacobians and projection ---------------------------------------------------------------------
-def _task_jacobian(robot, Q: np.ndarray) -> np.ndarray:
-    return robot.jacobian(Q)[:, list(robot.task_rows), :]
-
-
-def _jacobian_derivatives(robot, Q: np.ndarray) -> np.ndarray:
-    """∂J/∂q_k of the task Jacobian by central differences: (N, n, m, n), index 1 = k."""
-    N, n = Q.shape
-    E = np.eye(n) * FD_STEP
-    Qp = (Q[:, None, :] + E[None]).reshape(-1, n)
-    Qm = (Q[:, None, :] - E[None]).reshape(-1, n)
-    Jp = _task_jacobian(robot, Qp)
-    Jm = _task_jacobian(robot, Qm)
-    return ((Jp - Jm) / (2 * FD_STEP)).reshape(N, n, Jp.shape[1], n)
-
-
-def _residuals(robot, Q: np.ndarray):
-    """(σ_min (N,), residuals h (N, c), normal rows G (N, c, n), left null u (N, m), second
-    smallest singular value (N,)) at Q."""
-    J = _task_jacobian(robot, Q)
-    N, m, n = J.shape
-    r = min(m, n)
-    U, S, Vt = np.linalg.svd(J, full_matrices=True)
-    Ul = U[:, :, r - 1:]                      # (N, m, a)
-    Vr = np.transpose(Vt, (0, 2, 1))[:, :, r - 1:]   # (N, n, b)
-    dJ = _jacobian_derivatives(robot, Q)      # (N, n, m, n)
-    h = np.einsum("nia,nij,njb->nab", Ul, J, Vr).reshape(N, -1)
-    G = np.einsum("nia,nkij,njb->nabk", Ul, dJ, Vr).reshape(N, -1, n)
-    second = S[:, r - 2] if r >= 2 else np.full(N, np.inf)
-    return S[:, r - 1], h, G, U[:, :, r - 1], second
-
-
-def project(robot, Q0: np.ndarray, iterations: int = 40, tol: float = 1e-10,
-            deadline: float | None = None, slack: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
-    """Gauss–Newton projection of configurations (N, n) onto the singular set, inside the joint
-    limits widened by ``slack`` (rad or m) → (projected Q, converged mask).  ``tol``: σ_min
-    accepted as zero (SI)."""
-    lo, hi = robot.chain.lower - slack, robot.chain.upper + slack
-    Q = np.clip(np.array(Q0, dtype=float), lo, hi)
-    active = np.ones(len(Q), bool)
-    sigma = np.full(len(Q), np.inf)
-    for _ in range(iterations):
-        idx = np.flatnonzero(active)
-        if len(idx) == 0 or (deadline is not None and time.perf_counter() > deadline):
-            break
-        s, h, G, _, _ = _residuals(robot, Q[idx])
-        sigma[idx] = s
-        done = s < tol
-        active[idx[done]] = False
-        idx, h, G = idx[~done], h[~done], G[~done]
-        if len(idx) == 0:
-            break
-        step = -np.einsum("nkc,nc->nk", np.linalg.pinv(G, rcond=1e-10), h)
-        norm = np.linalg.norm(step, axis=1, keepdims=True)
-        step *= np.minimum(1.0, MAX_STEP / np.maximum(norm, 1e-300))
-        Q[idx] = np.clip(Q[idx] + step, lo, hi)
-    s = np.asarray(robot.sigma_min(Q)) if len(Q) else np.zeros(0)
-    return Q, (s < 10 * tol) & np.isfinite(s)
-
-
-# ---- describing the points ------------------------------------------------------------------------
-def _support(G: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Per point: boolean support (N, n) of the normal space and a unit normal (N, n)."""
-    col = np.linalg.norm(G, axis=1)                      # (N, n)
-    scale = np.maximum(col.max(axis=1, keepdims=True), 1e-300)
-    _, _, Vt = np.linalg.svd(G, full_matrices=False)
-    return col > SUPPORT_TOL * scale, Vt[:, 0, :]
-
-
-def _lines(robot, Q: np.ndarray):
-    """Joint axes from the Jacobian: directions Z (N, n, 3) and points O (N, n, 3) on each revolute
-    axis (the point nearest the tool point), tool points P (N, 3) and tool rotations R (N, 3, 3)."""
-    T, J = robot.fk_jacobian(Q)
-    T, J = T.reshape(-1, 4, 4), J.reshape(-1, 6, robot.n)
-    P = T[:, :3, 3]
-    rev = robot.chain.revolute_mask
-    Z = np.where(rev[None, :, None], np.transpose(J[:, 3:, :], (0, 2, 1)), np.transpose(J[:, :3, :], (0, 2, 1)))
-    O = P[:, None, :] + np.cross(Z, np.transpose(J[:, :3, :], (0, 2, 1)))
-    return Z, O, P, T[:, :3, :3]
-
-
-def _parallel(a: np.ndarray, b: np.ndarray, tol: float = 1e-5) -> bool:
-    return float(np.linalg.norm(np.cross(a, b))) < tol
-
-
-def _name_point(robot, q: np.ndarray, own: list[int], generic_parallel: set, wc_frame) -> str:
-    """wrist / elbow / boundary / shoulder / prismatic / other for one configuration on the set."""
-    chain = robot.chain
-    n = chain.n
-    rev = [i for i in range(n) if chain.joints[i].is_revolute]
-    if all(not chain.joints[j].is_revolute for j in own):
-        return "prismatic"
-    Z, O, P, _ = (x[0] for x in _lines(robot, q[None]))
-    last = [i for i in rev if i >= n - 3]
-    for a in range(len(last)):
-        for b in range(a + 1, len(last)):
-            i, j = last[a], last[b]
-            if (i, j) not in generic_parallel and _parallel(Z[i], Z[j]):
-                return "wrist"
-    reach = max(float(np.linalg.norm(P - O[0])), 1e-9)
-    if wc_frame is not None:
-        # positioning Jacobian at the wrist centre (the intersection of the last three axes)
-        w, dist = _closest_point(Z[n - 3], O[n - 3], Z[n - 2], O[n - 2])
-        if not math.isfinite(dist):
-            w, _ = _closest_point(Z[n - 2], O[n - 2], Z[n - 1], O[n - 1])
-        k = n - 3
-        M = np.stack([np.cross(Z[i], w - O[i]) if chain.joints[i].is_revolute else Z[i] for i in range(k)], 1)
-        point, idx = w, list(range(k))
-        U, _, Vt = np.linalg.svd(M)
-        lost = U[:, -1]
-    else:
-        rows = list(robot.task_rows)
-        M = robot.jacobian(q)[rows]
-        point, idx = P, list(range(n))
-        U, _, Vt = np.linalg.svd(M)
-        u6 = np.zeros(6)
-        u6[rows] = U[:, -1]
-        lost = u6[:3] / np.linalg.norm(u6[:3]) if np.linalg.norm(u6[:3]) > 0.5 else None
-    if M.shape[0] == M.shape[1]:
-        # square: the null motion is unique — stretched/folded when it comes from parallel axes only
-        v = Vt[-1]
-        support = [idx[i] for i in range(len(idx)) if abs(v[i]) > 0.05 * np.abs(v).max()]
-        group = support + own
-        if 0 not in own and all(chain.joints[i].is_revolute for i in group) and all(
-                _parallel(Z[own[0]], Z[i], 1e-6) for i in group):
-            return "boundary" if set(robot.task_rows) <= {0, 1, 2} else "elbow"
-        if wc_frame is not None and 0 in support and chain.joints[0].is_revolute:
-            return "shoulder"
-    if len(own) == 1 and own[0] != 0 and chain.joints[own[0]].is_revolute and lost is not None:
-        # stretched/folded about one joint: the lost motion is along the line from its axis to the point
-        r = point - O[own[0]]
-        r = r - (r @ Z[own[0]]) * Z[own[0]]
-        if np.linalg.norm(r) > 1e-6 * reach and abs(lost @ r) / np.linalg.norm(r) > 0.999:
-            return "boundary" if set(robot.task_rows) <= {0, 1, 2} else "elbow"
-    if chain.joints[0].is_revolute and np.linalg.norm(np.cross(Z[0], point - O[0])) < 1e-6 * reach:
-        return "shoulder"
-    return "other"
-
-
-MEANINGS = {
-    "wrist": "two wrist axes become parallel: the wrist loses one rotation",
-    "elbow": "arm stretched or folded: it cannot move along the arm",
-    "boundary": "arm stretched or folded: the tool point is on the workspace boundary",
-    "shoulder": "the wrist centre (or tool point) lies on the axis of joint 1 or on its offset surface",
-    "prismatic": "prismatic joints at zero extension",
-    "other": "the joints lose a direction of motion together (no simpler geometric name)",
-}
-
-
-def _lost_motion(robot, Q: np.ndarray, U: np.ndarray) -> dict:
-    """The tool-frame direction the arm cannot move in, summarised over a component's points."""
-    rows = list(robot.task_rows)
-    _, _, _, R = _lines(robot, Q)
-    u6 = np.zeros((len(Q), 6))
-    u6[:, rows] = U
-    tool = np.concatenate([np.einsum("nji,nj->ni", R, u6[:, :3]), np.einsum("nji,nj->ni", R, u6[:, 3:])], axis=1)
-    _, s, Vt = np.linalg.svd(tool, full_matrices=False)
-    d = Vt[0] * np.sign(Vt[0][np.argmax(np.abs(Vt[0]))])
-    lin = float(np.mean(np.sum(tool[:, :3] ** 2, axis=1)))
-    return {"frame": "tool", "rows": [ROW_NAMES[r] for r in range(6)],
-            "direction": np.round(d, 6).tolist(), "consistency": float(s[0] ** 2 / max(np.sum(s ** 2), 1e-300)),
-            "linear_share": lin, "type": "linear" if lin > 0.9 else "angular" if lin < 0.1 else "mixed"}
 
 
 def _sheet_values(x: np.ndarray, gap: float = 1e-4) -> list[float]:
@@ -396,9 +225,9 @@ def numeric_components(robot, samples: int = 1024, seed: int = 0, time_limit: fl
     if len(Q) == 0:
         info["seconds"] = time.perf_counter() - t0
         return [], info
-    _, _, G, U, second = _residuals(robot, Q)
+    _, _, G, U, second = residuals(robot, Q)
     codim = G.shape[1]
-    supp, normal = _support(G)
+    supp, normal = support(G)
     clean = second > 1e-4 * sig_scale         # a double zero singular value: where components meet
     keys = [tuple(np.flatnonzero(s)) for s in supp]
     counts: dict[tuple, int] = {}
@@ -420,9 +249,9 @@ def numeric_components(robot, samples: int = 1024, seed: int = 0, time_limit: fl
     info["groups_dropped"] = int(len(Q) - sum(len(v) for v in groups.values()))
     wc = wrist_centre(robot)
     generic = robot.random_configurations(1, seed=12345)
-    Zg = _lines(robot, generic)[0][0]
+    Zg = axis_lines(robot, generic)[0][0]
     rev = [i for i in range(n) if chain.joints[i].is_revolute]
-    generic_parallel = {(i, j) for a, i in enumerate(rev) for j in rev[a + 1:] if _parallel(Zg[i], Zg[j])}
+    generic_parallel = {(i, j) for a, i in enumerate(rev) for j in rev[a + 1:] if parallel(Zg[i], Zg[j])}
     rng = np.random.default_rng(seed)
     comps = []
     for gi, (key, idx) in enumerate(sorted(groups.items(), key=lambda kv: -len(kv[1]))):
@@ -440,7 +269,7 @@ def numeric_components(robot, samples: int = 1024, seed: int = 0, time_limit: fl
         use = P[rng.choice(len(P), min(len(P), 40), replace=False)]
         votes: dict[str, int] = {}
         for q in use:
-            name = _name_point(robot, q, own, generic_parallel, wc)
+            name = name_point(robot, q, own, generic_parallel, wc)
             votes[name] = votes.get(name, 0) + 1
         kind = max(votes, key=lambda k: (votes[k], k != "other"))
         own = [int(j) for j in own]
@@ -454,10 +283,10 @@ def numeric_components(robot, samples: int = 1024, seed: int = 0, time_limit: fl
             ranges = {f"q{j + 1}": [float(P[:, j].min()), float(P[:, j].max())] for j in own}
             solutions = {"type": "manifold", "solve_for": None, "count": int(len(P)), "ranges": ranges,
                          "samples": np.round(P[:5], 9).tolist(), "numeric": True}
-        Uc = _residuals(robot, use)[3]
-        comp = SingularComponent(kind=kind, joints=tuple(int(j) + 1 for j in own), meaning=f"{names}: {MEANINGS[kind]}",
+        Uc = residuals(robot, use)[3]
+        comp = SingularComponent(kind=kind, joints=tuple(int(j) + 1 for j in own), meaning=f"{names}: {NUMERIC_MEANINGS[kind]}",
                                  solutions=solutions, n=n, points=P, normals=Nrm, codimension=codim, tolerance=tol,
-                                 lost_motion=_lost_motion(robot, use, Uc),
+                                 lost_motion=lost_motion(robot, use, Uc),
                                  kind_shares={k: v / len(use) for k, v in votes.items()})
         comp.resolution = _resolution(robot, comp, tol, rng, deadline + 5.0) if len(own) > 1 else 0.0
         comps.append(comp)
@@ -489,8 +318,8 @@ def _densify(robot, P: np.ndarray, Nrm: np.ndarray, key: tuple, target: int, tol
         Qp = Qp[ok]
         if len(Qp) == 0:
             continue
-        _, _, G, _, _ = _residuals(robot, Qp)
-        supp, nrm = _support(G)
+        _, _, G, _, _ = residuals(robot, Qp)
+        supp, nrm = support(G)
         same = np.all(supp == np.isin(np.arange(robot.n), cols)[None], axis=1)
         P = np.concatenate([P, Qp[same]])
         Nrm = np.concatenate([Nrm, nrm[same]])
@@ -511,7 +340,7 @@ def _resolution(robot, comp: SingularComponent, tol: float, rng, deadline: float
     Qp = Qp[ok]
     if len(Qp) == 0:
         return math.nan
-    _, _, G, _, _ = _residuals(robot, Qp)
-    supp, _ = _support(G)
+    _, _, G, _, _ = residuals(robot, Qp)
+    supp, _ = support(G)
     same = np.all(supp == np.isin(np.arange(robot.n), cols)[None], axis=1)
     return float(comp.distance(Qp[same]).max()) if same.any() else math.nan

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import kin
-from kin.singular import analyse_singularities, cache
+from kin.singular import analyse_singularities
 from planning.errors import WindowError
 from planning.windows import PointSetWindow, WindowSet, build_windows
 
