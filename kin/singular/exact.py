@@ -262,7 +262,8 @@ def from_tree(t, n: int, where: str = "tree") -> sp.Expr:
 
 
 def trig_form(g: sp.Expr, n: int) -> sp.Expr:
-    """c_i → cos(q_i), s_i → sin(q_i) (symbols by name, as :class:`~kin.singular.sympy_model.SympyChain` makes them)."""
+    """c_i → cos(q_i), s_i → sin(q_i) (symbols by name, as
+    :class:`~kin.singular.sympy_model.SympyChain` makes them)."""
     sub = {}
     for i in range(1, n + 1):
         q = sp.Symbol(f"q{i}", real=True)

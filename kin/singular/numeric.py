@@ -103,31 +103,33 @@ class SingularComponent:
         N = self.normals[:, [j - 1 for j in self.joints]]
         return N / np.maximum(np.linalg.norm(N, axis=1, keepdims=True), 1e-300)
 
+    def _index(self) -> cKDTree:
+        """KD-tree of the points over the component's joints (built on first use)."""
+        if self._tree is None:
+            self._tree = cKDTree(self.points[:, [j - 1 for j in self.joints]])
+        return self._tree
+
     @property
     def radius(self) -> np.ndarray:
         """Radius of the tangent disc each sample stands for (K,): the distance to its
         :data:`DISC_NEIGHBOURS`-th nearest sample, so that neighbouring discs overlap."""
         if len(self.points) < 2:
             return np.zeros(len(self.points))
-        self.distance(self.points[:1])
         k = min(DISC_NEIGHBOURS + 1, len(self.points))
-        return self._tree.query(self.points[:, [j - 1 for j in self.joints]], k=k)[0][:, -1]
+        return self._index().query(self.points[:, [j - 1 for j in self.joints]], k=k)[0][:, -1]
 
     def distance(self, Q) -> np.ndarray:
         """Joint-space distance (over the component's joints) from configurations (N, n) to the
         sampled set (see :func:`sampled_distance`) → (N,); inf when the component has no point."""
         Q2 = np.asarray(Q, dtype=float).reshape(-1, self.n)
-        cols = [j - 1 for j in self.joints]
         if len(self.points) == 0:
             return np.full(len(Q2), np.inf)
-        if self._tree is None:
-            self._tree = cKDTree(self.points[:, cols])
         if self._radius is None:
-            self._radius = np.zeros(len(self.points))
             self._radius = self.radius
-        return sampled_distance(self._tree, self.local_normals, self._radius, Q2[:, cols])
+        return sampled_distance(self._index(), self.local_normals, self._radius,
+                                Q2[:, [j - 1 for j in self.joints]])
 
-    def absorb(self, robot, Q, limit: int = 2000, seed: int = 0) -> int:
+    def absorb(self, robot, Q, limit: int = 2000) -> int:
         """Project configurations (N, n) onto the singular set and keep, as new points of this
         component, those landing on it (same joints) — filling the sampling gaps near ``Q`` (the
         dexterity windows use it where σ_min is low far from every sample).  Returns how many."""
@@ -154,8 +156,7 @@ class SingularComponent:
         Q2 = np.asarray(Q, dtype=float).reshape(-1, self.n)
         if len(self.points) == 0:
             return np.zeros_like(Q2)
-        self.distance(Q2[:1])
-        return self.normals[self._tree.query(Q2[:, [j - 1 for j in self.joints]])[1]]
+        return self.normals[self._index().query(Q2[:, [j - 1 for j in self.joints]])[1]]
 
     def to_dict(self) -> dict:
         return {"expr": self.expr, "symbolic": self.symbolic, "kind": self.kind, "joints": list(self.joints),
@@ -244,7 +245,7 @@ def numeric_components(robot, samples: int = 1024, seed: int = 0, time_limit: fl
         # rare pattern (a partial derivative vanishing by chance, or a meeting point): the
         # smallest major support containing it, if any
         sup = [k for k in major if set(key) <= set(k)]
-        if sup:
+        if sup and key:           # an empty support (a degenerate normal) says nothing: dropped
             groups[min(sup, key=len)].append(i)
     info["groups_dropped"] = int(len(Q) - sum(len(v) for v in groups.values()))
     wc = wrist_centre(robot)
@@ -284,8 +285,9 @@ def numeric_components(robot, samples: int = 1024, seed: int = 0, time_limit: fl
             solutions = {"type": "manifold", "solve_for": None, "count": int(len(P)), "ranges": ranges,
                          "samples": np.round(P[:5], 9).tolist(), "numeric": True}
         Uc = residuals(robot, use)[3]
-        comp = SingularComponent(kind=kind, joints=tuple(int(j) + 1 for j in own), meaning=f"{names}: {NUMERIC_MEANINGS[kind]}",
-                                 solutions=solutions, n=n, points=P, normals=Nrm, codimension=codim, tolerance=tol,
+        comp = SingularComponent(kind=kind, joints=tuple(j + 1 for j in own),
+                                 meaning=f"{names}: {NUMERIC_MEANINGS[kind]}", solutions=solutions, n=n,
+                                 points=P, normals=Nrm, codimension=codim, tolerance=tol,
                                  lost_motion=lost_motion(robot, use, Uc),
                                  kind_shares={k: v / len(use) for k, v in votes.items()})
         comp.resolution = _resolution(robot, comp, tol, rng, deadline + 5.0) if len(own) > 1 else 0.0

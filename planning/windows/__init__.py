@@ -20,4 +20,5 @@ from planning.windows.build import build_windows, dexterity_margins, window_for_
 from planning.windows.model import METHODS, Window, WindowSet
 from planning.windows.sampled import PointSetWindow
 
-__all__ = ["Window", "WindowSet", "PointSetWindow", "METHODS", "build_windows", "dexterity_margins", "window_for_factor"]
+__all__ = ["Window", "WindowSet", "PointSetWindow", "METHODS", "build_windows", "dexterity_margins",
+           "window_for_factor"]

@@ -54,7 +54,8 @@ class PointSetWindow:
         self.points = np.asarray(self.points, dtype=float).reshape(-1, len(self.joints))
         if not (math.isfinite(self.width) and self.width >= 0):
             raise WindowError(f"window {self.name!r}: width {self.width} must be a finite number ≥ 0 (rad or m)")
-        if not self.joints or len(set(self.joints)) != len(self.joints) or not all(1 <= j <= self.n for j in self.joints):
+        if not self.joints or len(set(self.joints)) != len(self.joints) or \
+                not all(1 <= j <= self.n for j in self.joints):
             raise WindowError(f"window {self.name!r}: joints {self.joints} must be distinct joints 1…{self.n}")
         if not np.all(np.isfinite(self.points)):
             raise WindowError(f"window {self.name!r}: points must be finite numbers")

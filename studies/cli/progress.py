@@ -23,7 +23,8 @@ class TerminalProgress:
         if stage != self.stage:
             self.close()
             self.stage = stage
-            self.bar = tqdm(total=total, desc=stage, delay=self.delay, mininterval=self.mininterval, file=self.stream, disable=None, leave=False,
+            self.bar = tqdm(total=total, desc=stage, delay=self.delay, mininterval=self.mininterval, file=self.stream,
+                            disable=None, leave=False,
                             bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}")
         if self.bar is not None:
             self.bar.update(max(done - self.bar.n, 0))

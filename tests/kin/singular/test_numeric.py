@@ -28,7 +28,8 @@ def chain_robot(name: str, rows, limit: float = 3.0) -> kin.Robot:
     """A revolute chain in standard DH from (a, alpha, d) rows."""
     text = f'name = "{name}"\nconvention = "standard"\nlength_unit = "m"\nangle_unit = "rad"\n'
     for a, alpha, d in rows:
-        text += f'[[joints]]\ntype = "revolute"\na = {a!r}\nalpha = {alpha!r}\nd = {d!r}\nlimits = [{-limit}, {limit}]\n'
+        text += (f'[[joints]]\ntype = "revolute"\na = {a!r}\nalpha = {alpha!r}\nd = {d!r}\n'
+                 f'limits = [{-limit}, {limit}]\n')
     return kin.Robot(kin.loads_robot(text))
 
 
