@@ -37,7 +37,7 @@ def numeric_axes(robot, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.array(Z), np.array(O)
 
 
-def _closest_point(z1, o1, z2, o2) -> tuple[np.ndarray, float]:
+def closest_point(z1, o1, z2, o2) -> tuple[np.ndarray, float]:
     """Midpoint of the closest points of two lines and their distance (inf when parallel)."""
     w = o1 - o2
     a, b, c = z1 @ z1, z1 @ z2, z2 @ z2
@@ -64,8 +64,8 @@ def wrist_centre(robot, seed: int = 0) -> tuple[int, np.ndarray] | None:
     frames = robot.symbolic.frames_function
     local = []
     for q, z, o in zip(Q, Z, O):
-        p1, d1 = _closest_point(z[n - 3], o[n - 3], z[n - 2], o[n - 2])
-        p2, d2 = _closest_point(z[n - 2], o[n - 2], z[n - 1], o[n - 1])
+        p1, d1 = closest_point(z[n - 3], o[n - 3], z[n - 2], o[n - 2])
+        p2, d2 = closest_point(z[n - 2], o[n - 2], z[n - 1], o[n - 1])
         if d1 > 1e-9 or d2 > 1e-9 or np.linalg.norm(p1 - p2) > 1e-9:
             return None
         F = np.array(frames(q, chain.parameter_values)[0])
@@ -76,8 +76,31 @@ def wrist_centre(robot, seed: int = 0) -> tuple[int, np.ndarray] | None:
     return n - 3, np.mean(local, axis=0)
 
 
-def det_and_blocks(robot, model: SympyChain) -> tuple[list[tuple[sp.Expr, str]], str, tuple[int, ...]]:
-    """[(determinant polynomial, block name)], method description, task rows."""
+#: the ways det J is split (see :func:`derivation_text`)
+SPLITS = ("wrist", "linear", "full", "task")
+#: the block names of the determinant's parts
+BLOCKS = ("positioning", "wrist", "linear axes", "rotary axes", "full", "task")
+
+
+def derivation_text(split: str, n: int, rows: tuple[int, ...], lengths_numeric: bool = False) -> str:
+    """One line saying how det J was computed, from the ``split`` key of :func:`det_and_blocks`."""
+    names = " ".join(ROW_NAMES[r] for r in rows)
+    if split == "wrist":
+        return "det J = det J11 · det J22 (spherical wrist: Jacobian split at the wrist centre)"
+    if split == "linear":
+        return "det J = −det Z · det W (three prismatic joints: linear axes Z, rotary axes W)"
+    if split == "full":
+        note = ", lengths numeric" if lengths_numeric else ""
+        return f"det J (whole 6×6 Jacobian at the last joint's axis, q1 = q{n} = 0 without loss{note})"
+    m = len(rows)
+    if m == n:
+        return f"det J (task rows {names})"
+    return f"det({'J·Jᵀ' if m < n else 'Jᵀ·J'}) (task rows {names})"
+
+
+def det_and_blocks(robot, model: SympyChain) -> tuple[list[tuple[sp.Expr, str]], str, tuple[int, ...], bool]:
+    """[(determinant polynomial, block name)], split key (:data:`SPLITS`), task rows, and whether
+    the lengths were substituted by numbers before the determinant (see :func:`derivation_text`)."""
     chain = robot.chain
     n = chain.n
     rows = tuple(robot.task_rows)
@@ -104,7 +127,7 @@ def det_and_blocks(robot, model: SympyChain) -> tuple[list[tuple[sp.Expr, str]],
             J11 = sp.Matrix.hstack(*[c[:3, 0] for c in cols[:3]])
             J22 = sp.Matrix.hstack(*[c[3:, 0] for c in cols[3:]])
             return ([(_poly_det(J11.applyfunc(sp.expand)), "positioning"), (_poly_det(J22), "wrist")],
-                    "det J = det J11 · det J22 (spherical wrist: Jacobian split at the wrist centre)", rows)
+                    "wrist", rows, False)
         pris = [i for i, j in enumerate(chain.joints) if not j.is_revolute]
         rev = [i for i, j in enumerate(chain.joints) if j.is_revolute]
         if len(pris) == 3:
@@ -112,8 +135,7 @@ def det_and_blocks(robot, model: SympyChain) -> tuple[list[tuple[sp.Expr, str]],
             cols = [model.column(i, p0) for i in range(n)]
             Z = sp.Matrix.hstack(*[cols[i][:3, 0] for i in pris])
             W = sp.Matrix.hstack(*[cols[i][3:, 0] for i in rev])
-            return ([(_poly_det(Z), "linear axes"), (_poly_det(W), "rotary axes")],
-                    "det J = −det Z · det W (three prismatic joints: linear axes Z, rotary axes W)", rows)
+            return [(_poly_det(Z), "linear axes"), (_poly_det(W), "rotary axes")], "linear", rows, False
         # Whole determinant.  det J depends neither on q1 (turning joint 1 turns the whole Jacobian)
         # nor on qn (take the reference point on the last joint's axis), so both are set to zero.
         sub = {}
@@ -125,13 +147,11 @@ def det_and_blocks(robot, model: SympyChain) -> tuple[list[tuple[sp.Expr, str]],
         ref = model.axes[n - 1][1].subs(sub)
         J = sp.Matrix.hstack(*[model.column(i, ref) for i in range(n)]).subs(sub).applyfunc(sp.expand)
         used = J.free_symbols & set(model.lengths)
-        note = ""
-        if len(used) > MAX_SYMBOLIC_LENGTHS:
+        numeric = len(used) > MAX_SYMBOLIC_LENGTHS
+        if numeric:
             # factoring in many length symbols is slow; numbers keep it within seconds
             J = J.subs({k: rational(v) for k, v in model.lengths.items()}).applyfunc(sp.expand)
-            note = ", lengths numeric"
-        return ([(_poly_det(J), "full")],
-                f"det J (whole 6×6 Jacobian at the last joint's axis, q1 = q{n} = 0 without loss{note})", rows)
+        return [(_poly_det(J), "full")], "full", rows, numeric
     # fewer task rows: base frame matters for which rows are kept
     R0 = sp.Matrix(np.round(chain.base.matrix[:3, :3], 15).tolist()).applyfunc(rational)
     tool = chain.tool.matrix
@@ -143,10 +163,9 @@ def det_and_blocks(robot, model: SympyChain) -> tuple[list[tuple[sp.Expr, str]],
         cols.append(sp.Matrix.vstack(R0 * c[:3, 0], R0 * c[3:, 0]).applyfunc(sp.expand))
     J = sp.Matrix.hstack(*cols).extract(list(rows), list(range(n)))
     if m == n:
-        return [(_poly_det(J), "task")], f"det J (task rows {' '.join(ROW_NAMES[r] for r in rows)})", rows
+        return [(_poly_det(J), "task")], "task", rows, False
     G = (J * J.T if m < n else J.T * J).applyfunc(sp.expand)
-    which = "J·Jᵀ" if m < n else "Jᵀ·J"
-    return [(_poly_det(G), "task")], f"det({which}) (task rows {' '.join(ROW_NAMES[r] for r in rows)})", rows
+    return [(_poly_det(G), "task")], "task", rows, False
 
 
 def reduce_factors(model: SympyChain, poly: sp.Expr) -> list[tuple[sp.Expr, int]]:

@@ -9,11 +9,11 @@ import numpy as np
 import sympy as sp
 from scipy.optimize import brentq, minimize_scalar
 
-from kin.singular.sympy_model import SympyChain
 
 
-def pretty(expr: sp.Expr) -> str:
-    """Readable form: floats with up to 6 significant digits, trig combined when it shortens it."""
+def display_form(expr: sp.Expr) -> sp.Expr:
+    """The expression as shown: trig combined when it shortens it (sympy's trigsimp: slow, so the
+    budgeted worker does it)."""
     e = expr
     if len(sp.Add.make_args(e)) <= 12:
         try:
@@ -22,12 +22,21 @@ def pretty(expr: sp.Expr) -> str:
                 e = t
         except Exception:  # noqa: BLE001 - trigsimp is cosmetic
             pass
+    return e
+
+
+def display_text(e: sp.Expr) -> str:
+    """Text of a :func:`display_form`: floats with up to 6 significant digits."""
     e = e.xreplace({x: sp.Float(float(x), 15) for x in e.atoms(sp.Number) if not x.is_Integer})
-    s = sp.sstr(e, full_prec=False)
-    return s
+    return sp.sstr(e, full_prec=False)
 
 
-def lambdify_factor(model: SympyChain, expr: sp.Expr, n: int):
+def pretty(expr: sp.Expr) -> str:
+    """Readable form: floats with up to 6 significant digits, trig combined when it shortens it."""
+    return display_text(display_form(expr))
+
+
+def lambdify_factor(expr: sp.Expr, n: int):
     q = sp.symbols(f"q1:{n + 1}", real=True)
     f = sp.lambdify([q], expr, modules="numpy")
     grads = [sp.lambdify([q], sp.diff(expr, qi), modules="numpy") for qi in q]
@@ -78,10 +87,10 @@ def _roots_1d(fun: Callable[[np.ndarray], np.ndarray], lo: float, hi: float, gri
     return out
 
 
-def single_joint_solutions(model: SympyChain, exact: sp.Expr, j: int, lo: float, hi: float,
-                            fn) -> tuple[list[float], list[str]]:
+def single_joint_solutions(chain, exact: sp.Expr, j: int, lo: float, hi: float,
+                           fn) -> tuple[list[float], list[str]]:
     """Roots of a one-joint factor inside [lo, hi]: numeric values and, where sympy finds them, exact forms."""
-    n = model.chain.n
+    n = chain.n
 
     def g1(x):
         Q = np.zeros((len(np.atleast_1d(x)), n))
@@ -91,10 +100,10 @@ def single_joint_solutions(model: SympyChain, exact: sp.Expr, j: int, lo: float,
     values = _roots_1d(g1, lo, hi)
     exact_str: list[str] = []
     try:
-        sols = sp.solve(exact, model.q[j])
+        sols = sp.solve(exact, sp.Symbol(f"q{j + 1}", real=True))
     except (NotImplementedError, ValueError, TypeError):
         sols = []
-    revolute = model.chain.joints[j].is_revolute
+    revolute = chain.joints[j].is_revolute
     for v in values:
         label = None
         for sol in sols:

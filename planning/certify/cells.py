@@ -125,6 +125,8 @@ class FreeCells:
                         blocked |= (lo[:, j] >= a) & (hi[:, j] <= b)
                     used.append(w.name)
                     continue
+                if getattr(w, "epsilon", None) is None:
+                    continue                    # a point-set window: left out, the verdict stays sound
                 try:
                     fn = compile_interval(window_expression(w), syms)
                 except IntervalError:

@@ -52,7 +52,8 @@ class PathProof:
     (the path is valid by proof); ``violation`` — the first state found inside a window (None when
     none); ``unproven`` — (segment, window) pairs neither proven nor refuted; ``pieces`` — boxes
     evaluated; ``methods`` — per window name, ``"exact"`` (interval windows), ``"interval"`` (proof
-    by interval arithmetic) or ``"sampled"`` (the expression is not supported: not proven)."""
+    by interval arithmetic) or ``"sampled"`` (the expression is not supported, or a point-set window
+    of a numeric component: not proven)."""
 
     proven: bool
     violation: SegmentViolation | None
@@ -177,6 +178,10 @@ def certify_path(windows, path, max_depth: int = MAX_DEPTH, max_pieces: int = MA
             v = _interval_window(w, P)
             if v is not None:
                 violations.append(v)
+            continue
+        if getattr(w, "epsilon", None) is None:        # a point-set window (numeric component): no formula
+            proof.methods[w.name] = "sampled"
+            proof.unproven.extend((k, w.name) for k in range(len(P) - 1))
             continue
         try:
             fn = compile_interval(window_expression(w), syms)

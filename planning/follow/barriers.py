@@ -26,6 +26,10 @@ class _Barrier:
             self.ivs = np.array(w.intervals, dtype=float).reshape(-1, 2)
             self.empty = len(self.ivs) == 0
             self.m = buffer * w.width
+        elif getattr(w, "is_point_set", False):       # planning.windows.sampled: joint distance − width
+            self.joints = [j - 1 for j in w.joints]
+            self.empty = len(w.points) == 0
+            self.m = buffer * w.width
         else:
             self.joints = [j - 1 for j in w.joints]
             self.empty = w.epsilon is None or w.epsilon < 0
@@ -48,6 +52,8 @@ class _Barrier:
             # the nearer edge of the interval decides the direction (outwards when inside)
             sgn = -1.0 if (lo[i] - x) > (x - hi[i]) else 1.0
             return float(d_each[i]), np.array([sgn])
+        if getattr(self.window, "is_point_set", False):
+            return self.window.margin_and_gradient(q)
         ql = [float(v) for v in q]
         g = float(self._g(ql))
         dg = np.asarray(self._dg(ql), dtype=float)

@@ -63,6 +63,9 @@ class JointSpaceChecker:
                 (widths_rev if revolute else widths_len).append(2 * w.width if w.width > 0 else math.inf)
                 if w.is_interval:
                     self._intervals.append((w.joint, list(w.intervals)))
+                elif getattr(w, "is_point_set", False):     # planning.windows.sampled: 0 exactly inside
+                    self._predicates.append((w.excess, 0.0))
+                    self._predicate_windows.append(w)
                 else:
                     expr = parse_expression(w.expr, self.n, f"window {w.name!r}")
                     self._predicates.append((sp.lambdify([q], expr, modules="math"), float(w.epsilon)))

@@ -3,6 +3,8 @@
 A window belongs to one factor g of det J (see :mod:`kin.singular`):
 
 * a factor of one joint j gives a union of intervals of q_j around its roots, r ± w;
+* a component of a numerically found singular set (no formula) gives a point-set window: every
+  configuration within w of its sampled points (:mod:`planning.windows.sampled`);
 * any other factor gives the predicate |g(q)| ≤ ε, with ε = w · max‖∇g‖ over sampled points of
   its zero set, so that every configuration within (first-order) joint distance w of the zero set
   is inside — the window is at least w wide everywhere.
@@ -16,5 +18,7 @@ The values are in :mod:`planning.windows.model`, their construction in :mod:`pla
 """
 from planning.windows.build import build_windows, dexterity_margins, window_for_factor
 from planning.windows.model import METHODS, Window, WindowSet
+from planning.windows.sampled import PointSetWindow
 
-__all__ = ["Window", "WindowSet", "METHODS", "build_windows", "dexterity_margins", "window_for_factor"]
+__all__ = ["Window", "WindowSet", "PointSetWindow", "METHODS", "build_windows", "dexterity_margins",
+           "window_for_factor"]

@@ -8,10 +8,11 @@ from typing import Sequence
 
 import numpy as np
 
-from kin.singular import SingularFactor, SingularityAnalysis, analyse_singularities
+from kin.singular import SingularComponent, SingularFactor, SingularityAnalysis, analyse_singularities
 
 from planning.errors import WindowError
 from planning.windows.model import Window, WindowSet
+from planning.windows.sampled import PointSetWindow
 
 #: dexterity margins are widened by this factor beyond the last sample they had to include
 SAFETY = 1.02
@@ -34,9 +35,15 @@ def _merge(intervals: list[tuple[float, float]]) -> list[tuple[float, float]]:
     return [(a, b) for a, b in out]
 
 
-def window_for_factor(factor: SingularFactor, width: float, method: str, lower: np.ndarray,
-                      upper: np.ndarray, detail: dict | None = None) -> Window:
-    """The window of half-width ``width`` (SI) around ``factor``'s zero set."""
+def _sampled(factor) -> bool:
+    """A multi-joint component of a numeric analysis: known by samples, not by a formula."""
+    return isinstance(factor, SingularComponent) and factor.single_joint is None
+
+
+def window_for_factor(factor: SingularFactor | SingularComponent, width: float, method: str, lower: np.ndarray,
+                      upper: np.ndarray, detail: dict | None = None) -> Window | PointSetWindow:
+    """The window of half-width ``width`` (SI) around ``factor``'s zero set (a point-set window
+    for a multi-joint component of a numeric analysis)."""
     if not (width >= 0 and math.isfinite(width)):
         raise WindowError(f"window width {width} must be a finite number ≥ 0 (rad or m)")
     n = factor.n
@@ -48,6 +55,13 @@ def window_for_factor(factor: SingularFactor, width: float, method: str, lower: 
         ivs = _merge([(max(r - width, lower[j]), min(r + width, upper[j])) for r in roots])
         return Window(name, factor.kind, factor.expr, factor.joints, float(width), method, n, intervals=ivs,
                       detail=detail)
+    if _sampled(factor):
+        cols = [jj - 1 for jj in factor.joints]
+        detail.update({"resolution": factor.resolution, "points": int(len(factor.points)),
+                       "note": "distance over the component's joints to its sampled points"})
+        return PointSetWindow(name, factor.kind, factor.expr, factor.joints, float(width), method, n,
+                              points=factor.points[:, cols], detail=detail, normals=factor.local_normals,
+                              radius=None if factor.local_normals is None else factor.radius)
     S = factor.samples
     if len(S) == 0:   # zero set outside the limits: an empty window
         return Window(name, factor.kind, factor.expr, factor.joints, float(width), method, n, epsilon=-1.0,
@@ -65,6 +79,8 @@ def _normal_directions(factor: SingularFactor, S: np.ndarray) -> np.ndarray:
         D = np.zeros_like(S)
         D[:, j] = 1.0
         return D
+    if _sampled(factor):
+        return factor.normal_at(S)
     G = factor.gradient(S)
     return G / np.maximum(np.linalg.norm(G, axis=1, keepdims=True), 1e-300)
 
@@ -78,6 +94,8 @@ def _window_distance(factor: SingularFactor, Q: np.ndarray, grad_max: float) -> 
         if len(roots) == 0:
             return np.full(len(Q), np.inf)
         return np.abs(Q[:, j][:, None] - roots[None, :]).min(axis=1)
+    if _sampled(factor):
+        return factor.distance(Q)
     if grad_max <= 0:
         return np.full(len(Q), np.inf)
     return np.abs(factor(Q)) / grad_max
@@ -102,11 +120,7 @@ def _corner_samples(factors, limits, rng, widths=None, count: int = 300) -> list
             D = _normal_directions(fb, fb.samples[:1].repeat(count, 0)) if fb.single_joint is not None else None
             scale_b = limits[b] if widths is None or widths[b] == 0 else 3 * widths[b]
             step = rng.uniform(-1, 1, count)[:, None] * scale_b
-            if D is not None:
-                S += step * D
-            else:
-                G = fb.gradient(S)
-                S += step * G / np.maximum(np.linalg.norm(G, axis=1, keepdims=True), 1e-300)
+            S += step * (D if D is not None else _normal_directions(fb, S))
             out.append(S)
     # corners of all one-joint factors at once (wrist and elbow together, next to the shoulder)
     singles = [(a, f) for a, f in enumerate(factors) if f.single_joint is not None and f.solutions.get("values")]
@@ -134,7 +148,10 @@ def dexterity_margins(robot, analysis: SingularityAnalysis, threshold: float, me
     every window is charged to the factor it is nearest to (in that window's metric), whose margin
     grows to include it; this repeats until no sample is left.  Raises :class:`WindowError` when a
     margin would exceed half the range of the factor's joints (the threshold is too high for this
-    machine: its σ_min stays below it far from any singularity).
+    machine: its σ_min stays below it far from any singularity).  A component of a numeric
+    analysis first absorbs the low samples' projections onto the singular set as new points
+    (:meth:`~kin.singular.numeric.SingularComponent.absorb`; ``analysis`` is updated in place), so
+    that a gap between its sampled points does not count as distance from the set.
     """
     if measure not in ("sigma_min", "manipulability"):
         raise WindowError(f"dexterity measure {measure!r} unknown; allowed: sigma_min, manipulability")
@@ -154,7 +171,8 @@ def dexterity_margins(robot, analysis: SingularityAnalysis, threshold: float, me
             grad_max.append(0.0)
             continue
         S = S[rng.choice(len(S), min(len(S), 100), replace=False)]
-        grad_max.append(float(np.linalg.norm(f.gradient(f.samples), axis=1).max()) if f.single_joint is None else 1.0)
+        grad_max.append(float(np.linalg.norm(f.gradient(f.samples), axis=1).max())
+                        if f.single_joint is None and not _sampled(f) else 1.0)
         D = _normal_directions(f, S)
         ts = np.geomspace(1e-5, limits[-1], steps)
         for sign in (1.0, -1.0):
@@ -172,6 +190,11 @@ def dexterity_margins(robot, analysis: SingularityAnalysis, threshold: float, me
         Ql = Qs[res["measures"][:, col] < threshold * BUILD_MARGIN]
         if len(Ql) and not factors:
             raise WindowError(too_high)
+        for f in factors:
+            # a sampled component has gaps between its points: low configurations far from them
+            # are projected onto the set first, so that the margin covers the set, not the gaps
+            if _sampled(f):
+                f.absorb(robot, Ql)
         dist = np.stack([_window_distance(f, Ql, g) for f, g in zip(factors, grad_max)], axis=1) \
             if factors else np.zeros((0, 0))
         for _ in range(max_rounds):

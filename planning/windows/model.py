@@ -18,6 +18,7 @@ from kin.output import write_output
 from kin.singular.expression import ExpressionError, parse_expression
 
 from planning.errors import WindowError
+from planning.windows.sampled import PointSetWindow, is_point_set_entry
 
 METHODS = ("margin", "sigma_min", "manipulability", "learned")
 #: the largest joint count a windows file may declare
@@ -174,7 +175,7 @@ class WindowSet:
 
     robot: str
     n: int
-    windows: list[Window]
+    windows: list[Window | PointSetWindow]
 
     def membership(self, Q) -> np.ndarray:
         """(N, k) boolean: configuration i inside window j."""
@@ -223,4 +224,6 @@ class WindowSet:
         robot = d.get("robot", "")
         if not isinstance(robot, str):
             raise WindowError(f"{path}: robot must be a string")
-        return cls(robot=robot, n=n, windows=[Window.from_dict(w, n, str(path)) for w in d["windows"]])
+        return cls(robot=robot, n=n,
+                   windows=[(PointSetWindow if is_point_set_entry(w) else Window).from_dict(w, n, str(path))
+                            for w in d["windows"]])

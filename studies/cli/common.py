@@ -119,7 +119,9 @@ def windows_from_args(robot: kin.Robot, margin: float | None, sigma_min: float |
         return None
     from kin.singular import analyse_singularities
     from planning.windows import build_windows
-    analysis = analyse_singularities(robot, seed=seed)
+    from studies.cli.progress import TerminalProgress
+    with TerminalProgress() as progress:
+        analysis = analyse_singularities(robot, seed=seed, progress=progress)
     if margin is not None:
         return build_windows(robot, margin=factor_margins(robot.chain, analysis, margin), analysis=analysis)
     return build_windows(robot, sigma_min=sigma_min, analysis=analysis, seed=seed)

@@ -5,8 +5,8 @@ from __future__ import annotations
 import math
 
 import kin
-from studies.cli.common import (MAX_SIGMA, bounded, dump, factor_margins, output_file, require_task_rows,
-                                seed)
+from studies.cli.common import (MAX_SIGMA, CliInputError, bounded, dump, factor_margins, output_file,
+                                require_task_rows, seed)
 
 #: the most joint-space samples ``rmt workspace`` takes
 MAX_SAMPLES = 10_000_000
@@ -31,24 +31,33 @@ def singularities_json(robot: kin.Robot, analysis) -> dict:
             sol["ranges_file_units"] = {k: None if r is None else [_value_to_file(chain, int(k[1:]), x) for x in r]
                                         for k, r in sol["ranges"].items()}
         factors.append({"expr": d["expr"], "kind": d["kind"], "joints": d["joints"], "meaning": d["meaning"],
-                        "solutions": sol, "symbolic": d["symbolic"], "multiplicity": d["multiplicity"]})
-    return {"robot": chain.name, "factors": factors, "method": analysis.method, "rows": list(analysis.rows),
+                        "solutions": sol, "symbolic": d["symbolic"], "multiplicity": d["multiplicity"],
+                        **{k: d[k] for k in ("lost_motion", "kind_shares", "resolution", "points") if k in d}})
+    return {"robot": chain.name, "factors": factors, "method": analysis.method, "derivation": analysis.derivation,
+            "budget": analysis.budget, "rows": list(analysis.rows),
             "units": {"expr": "q in rad (revolute) or m (prismatic), lengths in m",
                       "values": "rad or m; *_file_units in the robot file's units", **unit_names(chain)},
             "lengths": analysis.lengths, "seconds": analysis.seconds}
 
 
-def cmd_singularities(args, load_robot) -> int:
+def _analyse(robot, args):
     from kin.singular import analyse_singularities
+    from studies.cli.progress import TerminalProgress
+    budget = {} if args.exact_timeout is None else {"exact_timeout": args.exact_timeout}
+    with TerminalProgress() as progress:
+        return analyse_singularities(robot, seed=args.seed, progress=progress, **budget)
+
+
+def cmd_singularities(args, load_robot) -> int:
     robot = require_task_rows(load_robot(args.robot))
-    analysis = analyse_singularities(robot, seed=args.seed)
+    analysis = _analyse(robot, args)
     out = singularities_json(robot, analysis)
     if args.json:
         print(dump(out))
         return 0
     c = robot.chain
     print(f"{c.name}: {len(out['factors'])} singular factor{'s' if len(out['factors']) != 1 else ''} "
-          f"({analysis.method}; {analysis.seconds:.2f} s)")
+          f"({analysis.method}: {analysis.derivation}; {analysis.seconds:.2f} s)")
     for i, f in enumerate(out["factors"], 1):
         joints = ", ".join(f"q{j}" for j in f["joints"])
         mult = f" (multiplicity {f['multiplicity']})" if f["multiplicity"] > 1 else ""
@@ -77,24 +86,29 @@ def _windows_text(robot: kin.Robot, ws) -> str:
             unit = c.angle_unit if c.joints[j - 1].is_revolute else c.length_unit
             ivs = " ∪ ".join(f"[{_value_to_file(c, j, lo):.6g}, {_value_to_file(c, j, hi):.6g}]" for lo, hi in w.intervals)
             lines.append(f"  {w.name}\n      q{j} ∈ {ivs or '∅'} {unit}   (half-width {w.width:.6g} SI, {w.method})")
+        elif getattr(w, "is_point_set", False):
+            lines.append(f"  {w.name}\n      within {w.width:.6g} SI of {len(w.points)} sampled points   ({w.method})")
         else:
             lines.append(f"  {w.name}\n      |g(q)| ≤ {w.epsilon:.6g}   (half-width ≥ {w.width:.6g} SI, {w.method})")
     return "\n".join(lines)
 
 
 def cmd_windows(args, load_robot) -> int:
-    from kin.singular import analyse_singularities
     from planning.windows import build_windows
     output_file(args.out)
     robot = require_task_rows(load_robot(args.robot))
     c = robot.chain
-    analysis = analyse_singularities(robot, seed=args.seed)
+    analysis = _analyse(robot, args)
     reports = None
     if args.margin is not None:
         ws = build_windows(robot, margin=factor_margins(c, analysis, args.margin), analysis=analysis, seed=args.seed)
     elif args.sigma_min is not None:
         ws = build_windows(robot, sigma_min=args.sigma_min, analysis=analysis, seed=args.seed)
     else:
+        if analysis.method != "exact":
+            raise CliInputError(f"--learned needs the exact singular factors; the exact analysis of {c.name} did not "
+                                f"finish within --exact-timeout {args.exact_timeout:g} s (give more, or use "
+                                "--margin or --sigma-min)")
         from design.learned.windows import jsonable_report, learned_windows
         ws, reports = learned_windows(robot, analysis=analysis, seed=args.seed)
         reports = [jsonable_report(r) for r in reports]
@@ -151,11 +165,18 @@ def cmd_workspace(args, load_robot) -> int:
     return 0
 
 
+def _add_exact_timeout(sp) -> None:
+    sp.add_argument("--exact-timeout", type=bounded(0, 3600, "s", open_low=True), metavar="S",
+                    help="seconds for the exact (sympy) analysis before the numeric one answers (default: "
+                         "kin.singular.DEFAULT_EXACT_TIMEOUT, 8 s; a finished one is cached on disk)")
+
+
 def add_commands(add) -> None:
     """Register the commands with the CLI's ``add(name, func, help)`` helper."""
     sp = add("singularities", cmd_singularities, "the singular set: factors of det J, named, with their solutions")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
     sp.add_argument("--seed", type=seed, default=0, help="seed of the zero-set samples (default 0)")
+    _add_exact_timeout(sp)
     sp = add("windows", cmd_windows, "singular error windows around every factor of the singular set")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
     g = sp.add_mutually_exclusive_group(required=True)
@@ -167,6 +188,7 @@ def add_commands(add) -> None:
                    help="the thesis's method: widths from a learned IK model's error at singular poses")
     sp.add_argument("--out", metavar="FILE.json", help="save the windows (SI units) to a JSON file")
     sp.add_argument("--seed", type=seed, default=0, help="seed (default 0)")
+    _add_exact_timeout(sp)
     sp = add("workspace", cmd_workspace, "sampled workspace: volume, reach, near-singular share, plot")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
     sp.add_argument("--samples", type=bounded(1, MAX_SAMPLES, "", integer=True), default=100_000, help="number of joint-space samples (default 100000)")

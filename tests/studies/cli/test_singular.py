@@ -76,3 +76,56 @@ def test_workspace_json_and_plot(capsys, tmp_path):
 def test_bad_input_exit_2(capsys, argv):
     code, out, err = run(capsys, *argv)
     assert code == 2 and out == "" and err.startswith("rmt: error:") and len(err.strip().splitlines()) == 1
+
+
+GENERAL_6R = """name = "general_6r"
+convention = "standard"
+length_unit = "m"
+angle_unit = "rad"
+""" + "".join(f'[[joints]]\ntype = "revolute"\na = {a}\nalpha = {al}\nd = {d}\nlimits = [-3, 3]\n'
+              for a, al, d in [(0.1, 1.2, 0.3), (0.45, -0.7, 0.05), (0.12, 0.9, 0.2), (0.05, -1.1, 0.35),
+                               (0.08, 0.6, 0.1), (0.02, 0.4, 0.15)])
+
+
+def test_singularities_of_a_general_chain_say_numeric(capsys, tmp_path, monkeypatch):
+    from kin.singular import cache
+    from planning.windows import WindowSet
+    monkeypatch.setattr(cache, "cache_dir", lambda: tmp_path)
+    path = tmp_path / "g6r.toml"
+    path.write_text(GENERAL_6R)
+    code, out, _ = run(capsys, "singularities", str(path), "--json", "--exact-timeout", "1")
+    d = json.loads(out)
+    assert code == 0 and d["method"] == "numeric" and d["budget"]["exact_timeout"] == 1.0
+    assert d["budget"]["exact_status"] == "timeout" and d["factors"][0]["joints"] == [2, 3, 4, 5]
+    code, out, _ = run(capsys, "windows", str(path), "--margin", "0.05", "--exact-timeout", "1",
+                       "--out", str(tmp_path / "w.json"))
+    assert code == 0 and "sampled points" in out
+    assert WindowSet.load(tmp_path / "w.json").windows[0].is_point_set
+    code, out, err = run(capsys, "windows", str(path), "--learned", "--exact-timeout", "1")
+    assert code == 2 and out == "" and err.count("\n") == 1 and "--exact-timeout" in err
+
+
+@pytest.mark.parametrize("value", ["-1", "nan", "1e9"])
+def test_bad_exact_timeout_is_one_line(capsys, value):
+    code, out, err = run(capsys, "singularities", "puma560", "--exact-timeout", value)
+    assert code == 2 and out == "" and err.count("\n") == 1 and "--exact-timeout" in err
+
+
+@pytest.mark.parametrize("name", ["kuka_iiwa7", "franka_panda"])
+def test_seven_joint_arms_get_their_singular_set_and_windows(name, tmp_path, capsys):
+    """Today's redundant arms: the numeric analysis answers within its budget, every component's
+    sample points are singular (J·Jᵀ nearly singular, by numpy's SVD), and windows are built."""
+    import kin
+    assert main(["singularities", name, "--exact-timeout", "2", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["method"] == "numeric" and d["factors"]
+    robot = kin.load_robot(name)
+    with_points = [np.array(f["solutions"]["samples"]) for f in d["factors"] if f["solutions"].get("samples")]
+    assert with_points
+    for pts in with_points:
+        s = np.linalg.svd(robot.jacobian(pts)[:, list(robot.task_rows)], compute_uv=False)[:, -1]
+        assert np.median(s) < 1e-3
+    out = tmp_path / "w.json"
+    assert main(["windows", name, "--margin", "0.05", "--exact-timeout", "2", "--out", str(out)]) == 0
+    from planning.windows import WindowSet
+    assert len(WindowSet.load(out).windows) >= 1
