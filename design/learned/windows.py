@@ -262,6 +262,9 @@ def learned_windows(robot, analysis: SingularityAnalysis | None = None, seed: in
     if model is not None and not isinstance(model, LearnedIK):
         raise LearnedIKError(f"model must be a LearnedIK or None; got {type(model).__name__}")
     analysis = analysis if analysis is not None else analyse_singularities(robot, seed=seed)
+    if getattr(analysis, "method", "exact") != "exact":
+        raise LearnedIKError(f"learned windows need the exact singular factors; the analysis of {robot.chain.name} "
+                             f"is {analysis.method} (the exact one did not finish within its budget)")
     reachable = [f for f in analysis.factors if not _factor_out_of_limits(f)]
     fitted = None
     if model is not None and model.is_fitted:

@@ -32,8 +32,10 @@ def study_report(results: dict, path: Path) -> str:
             if "intervals" in win:
                 ivs = " ∪ ".join(f"[{lo:.4g}, {hi:.4g}]" for lo, hi in win["intervals"])
                 out.append(f"  {win['name']}: q{win['joints'][0]} ∈ {ivs} rad")
-            else:
+            elif win.get("epsilon") is not None:
                 out.append(f"  {win['name']}: |g| ≤ {win['epsilon']:.4g}")
+            else:                      # a point-set window of a numeric component
+                out.append(f"  {win['name']}: within {win['width']:.4g} of its sampled points")
     ws = results.get("workspace")
     if ws:
         vol = f"volume ≈ {ws['volume']:.4g} m³ (voxel {1000 * ws['voxel']['size']:.3g} mm)" if ws["area"] is None \
