@@ -33,7 +33,7 @@ from scipy import ndimage
 from planning.certify.intervals import IntervalError, compile_interval
 from planning.certify.segments import _symbols, window_expression
 
-__all__ = ["FreeCells", "Separation", "GRID_CELLS", "free_cells"]
+__all__ = ["FreeCells", "Separation", "GRID_CELLS", "free_cells", "joint_groups"]
 
 #: cells per axis of the grid for a group of 1, 2 or 3 joints
 GRID_CELLS = {1: 4096, 2: 256, 3: 48}
@@ -49,6 +49,28 @@ class Separation:
     windows: tuple[str, ...]
     kind: str
     reason: str
+
+
+def joint_groups(windows) -> list[list[int]]:
+    """The 0-based joints the windows depend on, grouped: two joints are in one group when some
+    window involves both (union–find).  Joints in no window are in no group."""
+    parent: dict[int, int] = {}
+
+    def find(j: int) -> int:
+        while parent[j] != j:
+            parent[j] = parent[parent[j]]
+            j = parent[j]
+        return j
+    for w in windows:
+        js = [j - 1 for j in w.joints]
+        for j in js:
+            parent.setdefault(j, j)
+        for j in js[1:]:
+            parent[find(j)] = find(js[0])
+    groups: dict[int, list[int]] = {}
+    for j in sorted(parent):
+        groups.setdefault(find(j), []).append(j)
+    return sorted(groups.values())
 
 
 def _fmt(v: float) -> str:
@@ -67,25 +89,8 @@ class FreeCells:
         self.n = len(self.lower)
         self.windows = [] if windows is None else list(windows.windows)
         self.grid_cells = dict(GRID_CELLS if grid_cells is None else grid_cells)
-        parent = list(range(self.n))
-
-        def find(i):
-            while parent[i] != i:
-                parent[i] = parent[parent[i]]
-                i = parent[i]
-            return i
-        for w in self.windows:
-            js = [j - 1 for j in w.joints]
-            for j in js[1:]:
-                parent[find(j)] = find(js[0])
-        groups: dict[int, list[int]] = {}
-        for j in range(self.n):
-            groups.setdefault(find(j), []).append(j)
-        self.groups = []
-        for js in groups.values():
-            ws = [w for w in self.windows if (w.joints[0] - 1) in js]
-            if ws:
-                self.groups.append((tuple(js), ws))
+        self.groups = [(tuple(js), [w for w in self.windows if (w.joints[0] - 1) in js])
+                       for js in joint_groups(self.windows)]
         self._grids: dict[tuple[int, ...], tuple[np.ndarray, np.ndarray, np.ndarray, list[str]] | None] = {}
 
     # ---- one joint: exact ------------------------------------------------------------------------

@@ -337,27 +337,40 @@ def _box_violation(robot, checker: JointSpaceChecker, path: np.ndarray, step_ang
     return int(seg[int(np.argmax(hit))]) if hit.any() else None
 
 
-def _solve(robot, cls, checker: JointSpaceChecker, start_q, goal_q, time_limit, seed, objective, simplify):
-    """One OMPL run → (simplified path (M, n) or None, unsimplified path or None, status text)."""
+def joint_space(robot):
+    """OMPL's state space of the joints (a RealVectorStateSpace bounded by the limits) and its
+    SpaceInformation, not yet set up."""
     n = robot.n
-    quiet_rng_seed(seed)
     space = ob.RealVectorStateSpace(n)
     bounds = ob.RealVectorBounds(n)
     for i in range(n):
         bounds.setLow(i, float(robot.chain.lower[i]))
         bounds.setHigh(i, float(robot.chain.upper[i]))
     space.setBounds(bounds)
-    si = ob.SpaceInformation(space)
-    si.setStateValidityChecker(lambda s: checker.state_valid([s[i] for i in range(n)]))
-    mv = _MotionValidator(si, checker)
-    si.setMotionValidator(mv)
-    si.setup()
+    return space, ob.SpaceInformation(space)
+
+
+def start_goal(space, si, start_q, goal_q):
+    """A ProblemDefinition from ``start_q`` to ``goal_q`` and its two states (keep them alive)."""
     s0, s1 = space.allocState(), space.allocState()
-    for i in range(n):
+    for i in range(len(start_q)):
         s0[i] = float(start_q[i])
         s1[i] = float(goal_q[i])
     pdef = ob.ProblemDefinition(si)
     pdef.setStartAndGoalStates(s0, s1)
+    return pdef, (s0, s1)
+
+
+def _solve(robot, cls, checker: JointSpaceChecker, start_q, goal_q, time_limit, seed, objective, simplify):
+    """One OMPL run → (simplified path (M, n) or None, unsimplified path or None, status text)."""
+    n = robot.n
+    quiet_rng_seed(seed)
+    space, si = joint_space(robot)
+    si.setStateValidityChecker(lambda s: checker.state_valid([s[i] for i in range(n)]))
+    mv = _MotionValidator(si, checker)
+    si.setMotionValidator(mv)
+    si.setup()
+    pdef, (s0, s1) = start_goal(space, si, start_q, goal_q)
     keep = [space, si, mv, pdef, s0, s1]
     # OMPL's PRM family searches its roadmap in a second thread; a Python objective there deadlocks
     # (it waits for the GIL this thread holds while joining it).  Those planners grow their roadmap

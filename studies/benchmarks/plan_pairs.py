@@ -15,7 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planning.ompl.bindings import ob, og, quiet_rng_seed
+from planning.certify.cells import joint_groups as certify_joint_groups
+from planning.ompl.bindings import og, quiet_rng_seed
+from planning.ompl.planner import joint_space, start_goal
 from planning.validate import check_path, densify
 from planning.windows import WindowSet
 
@@ -26,24 +28,7 @@ MAX_DRAWS = 600_000      # start/goal pairs drawn per robot before giving up
 # ---- connectivity, independent of the planner ------------------------------------------------
 def joint_groups(ws: WindowSet) -> list[list[int]]:
     """0-based joints the windows depend on, grouped: joints sharing a window are in one group."""
-    parent: dict[int, int] = {}
-
-    def find(j: int) -> int:
-        while parent[j] != j:
-            parent[j] = parent[parent[j]]
-            j = parent[j]
-        return j
-
-    for w in ws.windows:
-        js = [j - 1 for j in w.joints]
-        for j in js:
-            parent.setdefault(j, j)
-        for j in js[1:]:
-            parent[find(j)] = find(js[0])
-    groups: dict[int, list[int]] = {}
-    for j in sorted(parent):
-        groups.setdefault(find(j), []).append(j)
-    return sorted(groups.values())
+    return certify_joint_groups(ws.windows)
 
 
 @dataclass
@@ -183,20 +168,10 @@ def naive_plan(robot, ws: WindowSet, a: np.ndarray, b: np.ndarray, time_limit: f
     validator (1 % of the space's extent).  Returns the path (M, n) or None."""
     n = robot.n
     quiet_rng_seed(seed)
-    space = ob.RealVectorStateSpace(n)
-    bounds = ob.RealVectorBounds(n)
-    for i in range(n):
-        bounds.setLow(i, float(robot.chain.lower[i]))
-        bounds.setHigh(i, float(robot.chain.upper[i]))
-    space.setBounds(bounds)
-    si = ob.SpaceInformation(space)
+    space, si = joint_space(robot)
     si.setStateValidityChecker(lambda s: not ws.contains(np.array([s[i] for i in range(n)])))
     si.setup()
-    s0, s1 = space.allocState(), space.allocState()
-    for i in range(n):
-        s0[i], s1[i] = float(a[i]), float(b[i])
-    pdef = ob.ProblemDefinition(si)
-    pdef.setStartAndGoalStates(s0, s1)
+    pdef, states = start_goal(space, si, a, b)
     pl = og.RRTConnect(si)
     pl.setProblemDefinition(pdef)
     pl.setup()
