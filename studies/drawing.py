@@ -1,4 +1,4 @@
-"""The homework's drawing task (ROBOTS.md §6): a UR3-like arm with a pen draws a closed "D" in the
+"""The homework's drawing task (docs/machines.md §6): a UR3-like arm with a pen draws a closed "D" in the
 y–z plane, starting at a singular pose — the naive resolved-rate method against the OSQP path
 follower of :mod:`planning.follow`.
 

@@ -7,7 +7,7 @@ values), evaluated it on poses where the arm is singular and called
     q_singular ± max |q_predicted − q_true|
 
 the singular joint's *error window*.  It hard-coded the singular value and gave no seed; its SCARA
-window was θ2 ∈ [−0.01, 0.01] rad (ROBOTS.md §2).  Here:
+window was θ2 ∈ [−0.01, 0.01] rad (docs/machines.md §2).  Here:
 
 * the singular values come from :func:`kin.singular.analyse_singularities` (every factor of
   det J, not one chosen by hand);
@@ -85,10 +85,10 @@ from design.learned.branch import (
 __all__ = ["LearnedIKError", "LearnedIK", "Branch", "resolve_branch", "default_n_train", "pose_features",
            "DEFAULT_N_EVAL"]
 
-#: The thesis's published learned-IK windows (ROBOTS.md §2): robot → joint (1-based) and interval (rad).
+#: The thesis's published learned-IK windows (docs/machines.md §2): robot → joint (1-based) and interval (rad).
 THESIS_WINDOWS: dict[str, dict[str, Any]] = {
     "scara_rrp": {"joint": 2, "interval": (-0.01, 0.01),
-                  "source": "thesis on singularities and reach (ROBOTS.md §2): θ2 ∈ [−0.01, 0.01] rad"},
+                  "source": "thesis on singularities and reach (docs/machines.md §2): θ2 ∈ [−0.01, 0.01] rad"},
 }
 #: Evaluation poses per factor (configurations on its zero set).
 DEFAULT_N_EVAL = 2000

@@ -1,4 +1,4 @@
-"""``rmt drawing``: the homework's drawing task (ROBOTS.md §6) from a singular start — the naive
+"""``rmt drawing``: the homework's drawing task (docs/machines.md §6) from a singular start — the naive
 resolved-rate method against the OSQP path follower (:mod:`studies.drawing`)."""
 from __future__ import annotations
 
@@ -35,7 +35,7 @@ def cmd_drawing(args, load_robot) -> int:
         print(dump(res))
         return 0
     p, st, tol = res["path"], res["start"], res["tolerance"]
-    print(f"Drawing task (ROBOTS.md §6) on {res['robot']} (pen d6 = {res['pen_d6_m']:g} m): "
+    print(f"Drawing task (docs/machines.md §6) on {res['robot']} (pen d6 = {res['pen_d6_m']:g} m): "
           f"{len(p['segments'])} segments × {p['segment_time_s']:g} s × {p['points_per_segment']} points "
           f"(Δt = {p['dt_s'] * 1e3:g} ms, {p['waypoints']} waypoints), plane {p['plane']}")
     cond = "inf" if not math.isfinite(st["condition"]) else f"{st['condition']:.3g}"

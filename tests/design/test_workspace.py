@@ -2,7 +2,7 @@
 
 Expected numbers come from closed forms written here in numpy (planar 2R and SCARA kinematics,
 their Jacobians, the reachable set of a 2R arm with joint limits by closed-form inverse kinematics on
-a fine Cartesian grid) and from ROBOTS.md (SCARA: maximal reach 675 mm at θ2 = 0), never from the
+a fine Cartesian grid) and from docs/machines.md (SCARA: maximal reach 675 mm at θ2 = 0), never from the
 code's own earlier output.  The robot numbers are read from the bundled TOML files with ``tomllib``.
 """
 from __future__ import annotations
@@ -72,7 +72,7 @@ def reachable_area_2r(a1: float, a2: float, lim1, lim2, h: float) -> float:
 
 
 def scara_fk_jv(Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """SCARA of ROBOTS.md §2 in closed form (SI): positions (N, 3) and position Jacobians (N, 3, 3)."""
+    """SCARA of docs/machines.md §2 in closed form (SI): positions (N, 3) and position Jacobians (N, 3, 3)."""
     t1, t2, d3 = Q[:, 0], Q[:, 1], Q[:, 2]
     a = 0.225
     c1, s1, c12, s12 = np.cos(t1), np.sin(t1), np.cos(t1 + t2), np.sin(t1 + t2)
@@ -85,7 +85,7 @@ def scara_fk_jv(Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def test_scara_closed_form_matches_robots_md():
-    # the reference values of ROBOTS.md §2 validate the closed form used below
+    # the reference values of docs/machines.md §2 validate the closed form used below
     p, J = scara_fk_jv(np.array([[0.0, 0.0, -197 * MM], [0.5, 1.0, -150 * MM]]))
     assert np.allclose(p / MM, [[675, 0, -195], [229.29, 556.74, -148]], atol=0.005)
     assert np.linalg.det(J[1, :2, :2]) / MM ** 2 == pytest.approx(101250 * math.sin(1.0), rel=1e-12)
@@ -143,7 +143,7 @@ def test_scara_volume_against_closed_form_reachable_set(scara):
 
 def test_scara_reach_675_mm(scara):
     ws = compute_workspace(scara, 100_000, "sobol", seed=0)
-    # ROBOTS.md §2: maximal reach 675 mm from the base axis, at θ2 = 0
+    # docs/machines.md §2: maximal reach 675 mm from the base axis, at θ2 = 0
     assert ws.radial_reach / MM == pytest.approx(675.0, abs=0.05)
     assert ws.radial_reach / MM <= 675.0 + 1e-9
     # from the base origin: the stretched arm at the bottom of the stroke, z = 2 − 297 mm

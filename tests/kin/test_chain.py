@@ -146,7 +146,7 @@ class TestConfigurations:
             c.check_limits(np.array([[0.0, 0.2], [1.0, 0.9]]))
 
     def test_robot_check_limits_puma_theta5(self):
-        # ROBOTS.md §1: θ5 = 180° is outside PUMA's ±100°
+        # docs/machines.md §1: θ5 = 180° is outside PUMA's ±100°
         robot = kin.load_robot("puma560")
         with pytest.raises(kin.JointLimitError, match="joint 5"):
             robot.check_limits(np.radians([90, 30, 90, 60, 180, 0]))

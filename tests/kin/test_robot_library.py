@@ -1,9 +1,9 @@
-"""The bundled robot library against the reference document (/work/shared/reference/ROBOTS.md).
+"""The bundled robot library against the reference document (docs/machines.md).
 
 Every reference value is checked to the precision it is printed with: a number printed with k
 decimals must match within half a unit of its last digit; a number printed without decimals (the
 0/±1 entries of rotation matrices, the SCARA's 675 mm) is an exact value and must match within 1e-9
-of its unit.  The expected numbers below are copied from ROBOTS.md (or from the maker's document
+of its unit.  The expected numbers below are copied from docs/machines.md (or from the maker's document
 named in the test), never from this code's own output.
 
 Each forward-kinematics check runs twice: with the independent numpy implementation in

@@ -131,7 +131,7 @@ def test_exact_cos_sin_snaps_right_angles():
 
 
 def test_right_angle_twists_leave_no_spurious_terms():
-    """FANUC's ±90° twists: at q = 0 the pose is exactly R = I, p = (1.02, 0, 1.365) (ROBOTS.md §3)."""
+    """FANUC's ±90° twists: at q = 0 the pose is exactly R = I, p = (1.02, 0, 1.365) (docs/machines.md §3)."""
     sym = SymbolicChain(kin.load_chain("fanuc_m16ib20"))
     T = sym_fk(sym)(np.zeros(6))
     assert np.array_equal(T[:3, :3], np.eye(3))

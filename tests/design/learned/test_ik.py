@@ -3,7 +3,7 @@
 The SCARA's poses are recomputed here with a closed-form numpy forward kinematics written from the
 DH table of kin/robots/scara_rrp.toml (read with ``tomllib``; standard DH, all α = 0, so
 x = a1·c1 + (a2 + a3)·c12, y = a1·s1 + (a2 + a3)·s12, z = d1 + d2 + q3, R = Rz(q1 + q2)), checked
-first against the reference values of ROBOTS.md §2; the window's width is then recomputed from the
+first against the reference values of docs/machines.md §2; the window's width is then recomputed from the
 model's own predictions on those poses, never taken from the code's earlier output.  The PUMA's
 shoulder evaluation poses are checked geometrically (the wrist centre on the cylinder of radius d2
 about axis 1) with a plain numpy DH product of its TOML table.

@@ -214,7 +214,7 @@ def test_planar_2r_det_closed_form():
 
 
 def test_scara_det_closed_form():
-    # ROBOTS.md §2: det Jv = 101250 sin θ2 mm² = 0.10125 sin θ2 m²
+    # docs/machines.md §2: det Jv = 101250 sin θ2 mm² = 0.10125 sin θ2 m²
     r = robot("scara_rrp")
     Q = random_q(r.chain, 20, 10)
     np.testing.assert_allclose(r.det(Q), 0.10125 * np.sin(Q[:, 1]), rtol=1e-12, atol=1e-16)

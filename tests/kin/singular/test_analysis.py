@@ -1,6 +1,6 @@
 """Singular factors of the bundled robots (kin.singular) against independent values.
 
-Expected factors, roots and determinants come from /work/shared/reference/ROBOTS.md or from closed
+Expected factors, roots and determinants come from docs/machines.md or from closed
 forms written out below (each closed form is itself checked against numpy's det of the Jacobian
 first, so a wrong closed form fails loudly instead of silently agreeing with the code).  σ_min is
 always recomputed here with numpy's SVD of ``robot.jacobian`` restricted to ``robot.task_rows`` —
@@ -107,7 +107,7 @@ def test_scara_single_boundary_factor_theta2():
     f = A.factors[0]
     assert (f.kind, f.joints, f.multiplicity) == ("boundary", (2,), 1)
     assert root_values(f) == pytest.approx([0.0], abs=1e-12)          # limits ±2.53: only θ2 = 0
-    # ROBOTS.md: det Jv = 101250·sinθ2 mm² = 0.10125·sinθ2 m² (a1·(a2 + a3), the tool sits a3 past joint 3)
+    # docs/machines.md: det Jv = 101250·sinθ2 mm² = 0.10125·sinθ2 m² (a1·(a2 + a3), the tool sits a3 past joint 3)
     Q = robot.random_configurations(200, seed=11)
     assert np.abs(det_task(robot, Q)) == pytest.approx(0.10125 * np.abs(np.sin(Q[:, 1])), abs=1e-12)
     # the factor is sin θ2 itself (up to sign)
@@ -128,7 +128,7 @@ def puma_shoulder(Q):
 
 
 def puma_det(Q):
-    """ROBOTS.md §1: det J = a2·sinθ5·(d4·c3 − a3·s3)·(a2·c2 + a3·c23 + d4·s23)."""
+    """docs/machines.md §1: det J = a2·sinθ5·(d4·c3 − a3·s3)·(a2·c2 + a3·c23 + d4·s23)."""
     return P_A2 * np.sin(Q[:, 4]) * puma_elbow(Q) * puma_shoulder(Q)
 
 
@@ -166,7 +166,7 @@ def test_puma560_wrist_elbow_shoulder():
 
 
 def test_fanuc_m16ib20_has_wrist_elbow_and_shoulder():
-    """ROBOTS.md §3: split at the wrist centre the FANUC has three factors (the thesis found one)."""
+    """docs/machines.md §3: split at the wrist centre the FANUC has three factors (the thesis found one)."""
     robot, A = analysed("fanuc_m16ib20")
     assert sorted(f.kind for f in A.factors) == ["elbow", "shoulder", "wrist"]
     lo, hi = robot.chain.lower, robot.chain.upper
@@ -195,7 +195,7 @@ def test_fanuc_m16ib20_has_wrist_elbow_and_shoulder():
 def test_stanford_arm_d3_squared_sin_theta2_sin_theta5():
     robot, A = analysed("stanford_arm")
     Q = robot.random_configurations(300, seed=15)
-    # ROBOTS.md §5: det J = d3²·sinθ2·sinθ5
+    # docs/machines.md §5: det J = d3²·sinθ2·sinθ5
     ref = Q[:, 2] ** 2 * np.sin(Q[:, 1]) * np.sin(Q[:, 4])
     assert np.abs(det_task(robot, Q)) == pytest.approx(np.abs(ref), abs=1e-12)
     assert len(A.factors) == 3, [f.expr for f in A.factors]
@@ -244,7 +244,7 @@ def test_ur_type_elbow_wrist_shoulder(name, shoulder_ref):
 def test_cnc_rrrppp_theta2():
     robot, A = analysed("cnc_rrrppp")
     Q = robot.random_configurations(300, seed=17)
-    # ROBOTS.md §4: det J ∝ sin θ2 (the rotary head, the linear axes never lose rank)
+    # docs/machines.md §4: det J ∝ sin θ2 (the rotary head, the linear axes never lose rank)
     ratio = np.abs(det_task(robot, Q)) / np.abs(np.sin(Q[:, 1]))
     assert np.ptp(ratio) < 1e-9 * ratio.mean()
     assert len(A.factors) == 1, [f.expr for f in A.factors]
@@ -260,7 +260,7 @@ def test_cnc_rrrppp_theta2():
 def test_planar_2r_sin_theta2():
     robot, A = analysed("planar_2r")
     Q = robot.random_configurations(300, seed=18)
-    # ROBOTS.md §8: det Jv = a1·a2·sinθ2 with a1 = 1.0, a2 = 0.8 m (robot file)
+    # docs/machines.md §8: det Jv = a1·a2·sinθ2 with a1 = 1.0, a2 = 0.8 m (robot file)
     assert np.abs(det_task(robot, Q)) == pytest.approx(0.8 * np.abs(np.sin(Q[:, 1])), abs=1e-12)
     assert len(A.factors) == 1
     f = A.factors[0]

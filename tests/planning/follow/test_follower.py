@@ -2,7 +2,7 @@
 
 Tracking errors are recomputed with the plain numpy DH of ``dh_numpy`` (not rmtkit's kinematics);
 limits are checked on the returned joint path itself; the drawing path is checked against the task's
-geometry in ROBOTS.md §6.
+geometry in docs/machines.md §6.
 """
 from __future__ import annotations
 
@@ -145,7 +145,7 @@ def test_drawing_path_geometry(pen):
     poses, t, _ = drawing_path(pen, START_Q)
     assert poses.shape == (5001, 4, 4) and t[-1] == pytest.approx(20.0) and t[1] == pytest.approx(0.004)
     p = poses[:, :3, 3]
-    # ROBOTS.md §6: the pen pose (-0.2173, -0.3878, 1.03611) m; x fixed; closed path
+    # docs/machines.md §6: the pen pose (-0.2173, -0.3878, 1.03611) m; x fixed; closed path
     np.testing.assert_allclose(p[0], [-0.2173, -0.3878, 1.03611], atol=1e-5)
     np.testing.assert_allclose(p[:, 0], p[0, 0], atol=1e-15)
     np.testing.assert_allclose(p[-1], p[0], atol=1e-12)

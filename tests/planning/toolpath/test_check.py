@@ -4,7 +4,7 @@
 Numbers are checked against independent values: rotations from scipy's ``Rotation``, arc and line
 geometry in closed form, poses from the numpy DH re-implementation ``dh_numpy.fk_numpy``, expected
 problem indices from the joint path a Cartesian path was made from, joint speeds from finite
-differences computed here, and ROBOTS.md §6 for the UR3-like arm with its pen.
+differences computed here, and docs/machines.md §6 for the UR3-like arm with its pen.
 """
 from __future__ import annotations
 
@@ -27,7 +27,7 @@ ROOT = Path(__file__).resolve().parents[3]
 DRAWING = ROOT / "studies" / "toolpaths" / "ur3_drawing.toml"
 SCARA_CSV = ROOT / "studies" / "toolpaths" / "scara_line.csv"
 PEN_Q = np.array([0.0, 0.0, math.pi / 2, -math.pi / 2, 0.0, 0.0])
-PEN_P = np.array([-0.2173, -0.3878, 1.03611])          # ROBOTS.md §6, pen tip at PEN_Q
+PEN_P = np.array([-0.2173, -0.3878, 1.03611])          # docs/machines.md §6, pen tip at PEN_Q
 
 
 @pytest.fixture(scope="module")
@@ -264,7 +264,7 @@ points = 400
         assert np.all(np.diff(ang) > 0)
         np.testing.assert_allclose(tp.s[-1], math.pi * R + 0.2, rtol=1e-12)
         np.testing.assert_allclose(tp.t[[1000, 2000, 3000, 4000, 5000]], [4, 8, 12, 16, 20], rtol=1e-12)
-        # the orientation is held at the pen pose's (ROBOTS.md §6: R at q = 0 is the same matrix)
+        # the orientation is held at the pen pose's (docs/machines.md §6: R at q = 0 is the same matrix)
         Rpen = np.array([[0, 0, -1], [-1, 0, 0], [0, 1, 0]], float)
         np.testing.assert_allclose(tp.poses[:, :3, :3], np.broadcast_to(Rpen, (5001, 3, 3)), atol=1e-15)
 

@@ -28,7 +28,7 @@ def test_robots_lists_every_bundled_robot(capsys):
 
 
 def test_fk_json_in_file_units_puma(capsys):
-    # ROBOTS.md §1: q = (90, 0, 90, 0, 0, 0) deg -> p = (-149.09, 921.12, 20.32) mm
+    # docs/machines.md §1: q = (90, 0, 90, 0, 0, 0) deg -> p = (-149.09, 921.12, 20.32) mm
     code, out, err = run(capsys, "fk", "puma560", "90", "0", "90", "0", "0", "0", "--json")
     assert code == 0 and err == ""
     d = json.loads(out)
@@ -67,7 +67,7 @@ def test_jacobian_json_fields_and_units(capsys):
     d = json.loads(out)
     J = np.array(d["J"])
     assert J.shape == (6, 3)
-    # SCARA (mm): det of the position Jacobian = 101250 sin q2 mm² (ROBOTS.md §2), rows x y z
+    # SCARA (mm): det of the position Jacobian = 101250 sin q2 mm² (docs/machines.md §2), rows x y z
     assert d["task_rows"] == ["x", "y", "z"]
     assert d["det"] == pytest.approx(101250 * math.sin(1.0), rel=1e-12)
     assert d["manipulability"] == pytest.approx(abs(d["det"]), rel=1e-12)
@@ -133,7 +133,7 @@ def test_study_writes_results(tmp_path, capsys):
     d = json.loads(path.read_text())
     assert d["robot"]["name"] == "fanuc_m16ib20"
     zero = d["configurations"][0]
-    # ROBOTS.md §3: q = 0 -> p = (1.02, 0, 1.365), R = I; and q5 = 0 is the wrist singularity
+    # docs/machines.md §3: q = 0 -> p = (1.02, 0, 1.365), R = I; and q5 = 0 is the wrist singularity
     np.testing.assert_allclose(zero["position"], [1.02, 0, 1.365], atol=1e-12)
     assert zero["sigma_min"] < 1e-12 and zero["det"] == pytest.approx(0.0, abs=1e-12)
     assert str(path) in out

@@ -22,7 +22,7 @@ def test_singularities_json_scara(capsys):
     d = json.loads(out)
     assert set(d) >= {"factors", "method"}
     [f] = d["factors"]
-    # ROBOTS.md §2: det of the position Jacobian = 101250 sin θ2 — one singularity, θ2 = 0, stretched arm
+    # docs/machines.md §2: det of the position Jacobian = 101250 sin θ2 — one singularity, θ2 = 0, stretched arm
     assert f["expr"] == "sin(q2)" and f["kind"] == "boundary" and f["joints"] == [2]
     assert f["solutions"]["values"] == [0.0]
     assert {"expr", "kind", "joints", "meaning", "solutions"} <= set(f)
@@ -65,7 +65,7 @@ def test_workspace_json_and_plot(capsys, tmp_path):
                        "--json")
     assert code == 0
     d = json.loads(out)
-    # ROBOTS.md §2: the SCARA is stretched at r = 675 mm; sampled radial reach cannot exceed it
+    # docs/machines.md §2: the SCARA is stretched at r = 675 mm; sampled radial reach cannot exceed it
     assert d["radial_reach"] <= 0.675 + 1e-9 and d["radial_reach"] > 0.66
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
