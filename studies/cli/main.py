@@ -13,11 +13,11 @@ from typing import Sequence
 
 import kin
 
-from studies.cli import design, follow, kinematics, plan, singular, study, toolpath
+from studies.cli import design, follow, kinematics, plan, singular, study, sweep, toolpath
 from studies.cli.common import EXIT_OK, EXIT_USAGE
 
 #: the command groups, in the order ``rmt --help`` lists their commands
-GROUPS = (kinematics, singular, plan, toolpath, follow, study, design)
+GROUPS = (kinematics, singular, plan, toolpath, follow, study, design, sweep)
 
 
 class UsageError(Exception):

@@ -1,0 +1,61 @@
+"""Small SCARA sweeps for the sweep tests: a 3 × 3 box of targets, 2 IK seeds, 300 samples, so a
+design takes a few milliseconds; and a per-design function that fails for some designs."""
+from __future__ import annotations
+
+from pathlib import Path
+
+from design.sweep.evaluate import evaluate_design
+
+ROOT = Path(__file__).resolve().parents[3]
+ROBOT = ROOT / "studies" / "tasks" / "robots" / "scara_design.toml"
+
+TASK = f'''
+name = "scara_small"
+robot = "{ROBOT}"
+length_unit = "mm"
+angle_unit = "deg"
+objective = "length"
+[target]
+shape = "box"
+min = [150, -150, -150]
+max = [350, 150, -150]
+count = [3, 3, 1]
+tolerance = 1e-3
+[dexterity]
+sigma_min = 0.04
+[constraints]
+min_coverage = 0.8
+'''
+
+
+def write_sweep(folder: Path, counts=(6, 6), sampling: str = "", extra: str = "", name: str = "small") -> Path:
+    """A sweep file over A1, A2 ∈ [100, 400] mm (grid ``counts`` unless ``sampling`` is given)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "task.toml").write_text(TASK)
+    c1 = f"count = {counts[0]}" if not sampling else ""
+    c2 = f"count = {counts[1]}" if not sampling else ""
+    text = f'''
+name = "{name}"
+task = "task.toml"
+{extra}
+[evaluation]
+seeds = 2
+samples = 300
+{sampling}
+[parameters.A1]
+range = [100, 400]
+{c1}
+[parameters.A2]
+range = [100, 400]
+{c2}
+'''
+    p = folder / f"{name}.toml"
+    p.write_text(text)
+    return p
+
+
+def evaluate_failing(job, robot, design):
+    """The ordinary evaluation, except that designs with A1 > 0.35 m raise."""
+    if design.values["A1"] > 0.35:
+        raise ValueError(f"test failure for A1 = {design.values['A1']}")
+    return evaluate_design(job, robot, design)
