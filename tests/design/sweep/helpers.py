@@ -59,3 +59,14 @@ def evaluate_failing(job, robot, design):
     if design.values["A1"] > 0.35:
         raise ValueError(f"test failure for A1 = {design.values['A1']}")
     return evaluate_design(job, robot, design)
+
+
+def evaluate_dying_once(job, robot, design):
+    """The ordinary evaluation, except that the first design with A1 > 0.3 m kills its worker
+    process (once per task folder: a marker file ``died`` beside the task file records it)."""
+    import os
+    marker = Path(job.task.source).parent / "died"
+    if design.values["A1"] > 0.3 and not marker.exists():
+        marker.touch()
+        os._exit(1)
+    return evaluate_design(job, robot, design)

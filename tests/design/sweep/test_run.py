@@ -6,7 +6,7 @@ import pytest
 from design.sweep import LocalExecutor, Store, load_sweep, make_job, read_sweep, run_sweep
 from design.sweep.evaluate import evaluate_design, job_robot
 from design.sweep.space import Design
-from tests.design.sweep.helpers import evaluate_failing, write_sweep
+from tests.design.sweep.helpers import evaluate_dying_once, evaluate_failing, write_sweep
 
 SKIP = ("time_s", "worker", "id")
 
@@ -60,3 +60,12 @@ def test_resume_extends_a_sweep_and_never_recomputes_done_rows(tmp_path):
         assert after[k]["attempts"] == 1 and after[k]["time_s"] == r["time_s"] and after[k]["worker"] == r["worker"]
     with Store(db, {"fingerprint": read_sweep(db)[0]["fingerprint"]}, resume=True) as s:
         assert s.counts()["done"] == 6
+
+
+def test_a_dead_worker_process_loses_only_its_chunk(tmp_path):
+    sw = load_sweep(write_sweep(tmp_path, counts=(3, 2)))
+    rep = run_sweep(sw, tmp_path / "d.sqlite", LocalExecutor(1), evaluate=evaluate_dying_once)
+    assert (tmp_path / "died").exists()                      # a worker process did die
+    assert rep.counts == {"pending": 0, "running": 0, "done": 6, "failed": 0}
+    for r in read_sweep(tmp_path / "d.sqlite")[1]:
+        assert r["metrics"] == fresh(sw, r)
