@@ -4,8 +4,9 @@ Two Gaussian processes (``GaussianProcessRegressor``, Matérn ν = 5/2 with one 
 input, a white-noise term, inputs scaled to the unit cube, outputs normalised) are fitted to the
 done rows: one to the task's objective (in the minimised sense), one to the coverage.  A candidate
 is scored by its expected improvement over the best feasible design times the probability that its
-coverage meets ``min_coverage`` (the coverage GP's normal tail above the constraint less half a
-target).  Candidates are a scrambled Sobol set over the swept ranges plus Gaussian perturbations of
+coverage meets ``min_coverage`` (the coverage GP's normal tail above the threshold halfway between
+the coverage levels k/N either side of the constraint), among the candidates more likely feasible
+than not.  Candidates are a scrambled Sobol set over the swept ranges plus Gaussian perturbations of
 the best feasible designs; a batch of one design per worker is chosen by the "kriging believer"
 (each pick is added to the data at its predicted mean before the next).  The picks are stored as
 ordinary rows with ``origin = "refine"`` and evaluated like the sample.
@@ -26,7 +27,7 @@ from design.sweep.dispatch import evaluate_pending
 from design.sweep.file import Sweep, SweepError
 from design.sweep.space import Design
 
-__all__ = ["expected_improvement", "fit_gp", "propose", "refine_sweep"]
+__all__ = ["expected_improvement", "fit_gp", "propose", "refine_sweep", "coverage_threshold"]
 
 _MAXIMISE = ("coverage", "gci")
 
@@ -44,7 +45,7 @@ def fit_gp(X: np.ndarray, y: np.ndarray, seed: int = 0):
     from sklearn.gaussian_process.kernels import ConstantKernel, Matern, WhiteKernel
     d = X.shape[1]
     kernel = (ConstantKernel(1.0, (1e-3, 1e3)) * Matern(length_scale=np.full(d, 0.3), length_scale_bounds=(1e-2, 1e2),
-                                                        nu=2.5) + WhiteKernel(1e-4, (1e-8, 1e-1)))
+                                                        nu=2.5) + WhiteKernel(1e-6, (1e-10, 1e-3)))
     gp = GaussianProcessRegressor(kernel=kernel, normalize_y=True, n_restarts_optimizer=2, random_state=seed)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")       # convergence notes of the hyper-parameter search
@@ -62,14 +63,22 @@ def _believer(gp, X: np.ndarray, y: np.ndarray, x: np.ndarray):
     return g
 
 
-def propose(X: np.ndarray, y: np.ndarray, c: np.ndarray, min_coverage: float, n_targets: int, k: int,
-            seed: int = 0, taken: np.ndarray | None = None) -> np.ndarray:
+def coverage_threshold(min_coverage: float, n_targets: int) -> float:
+    """The coverage the constraint GP is compared with: coverage takes the values k/N, so halfway
+    between the largest infeasible and the smallest feasible value."""
+    need = math.ceil(min_coverage * n_targets - 1e-9)
+    return (need - 0.5) / n_targets
+
+
+def propose(X: np.ndarray, y: np.ndarray, c: np.ndarray, feas: np.ndarray, threshold: float, k: int,
+            seed: int = 0, taken: np.ndarray | None = None, min_feasible: float = 0.5) -> np.ndarray:
     """``k`` new points (k, d) of the unit cube by constrained expected improvement, given done
-    designs X (M, d) (unit cube), objectives y (M,) (minimised) and coverages c (M,)."""
+    designs X (M, d) (unit cube), objectives y (M,) (minimised), coverages c (M,), feasibility
+    flags (M,) and the coverage ``threshold`` of the constraint."""
     d = X.shape[1]
     gy, gc = fit_gp(X, y, seed), fit_gp(X, c, seed)
-    thr = min_coverage - 0.5 / max(n_targets, 1)
-    feas = c >= thr
+    thr = threshold
+    feas = np.asarray(feas, bool)
     rng = np.random.default_rng(seed)
     cand = qmc.Sobol(d, scramble=True, seed=seed).random(2048)
     if feas.any():
@@ -82,7 +91,12 @@ def propose(X: np.ndarray, y: np.ndarray, c: np.ndarray, min_coverage: float, n_
         mu, sd = gy.predict(cand, return_std=True)
         mc, sc = gc.predict(cand, return_std=True)
         pf = norm.cdf((mc - thr) / np.maximum(sc, 1e-9))
-        acq = expected_improvement(mu, sd, float(y[feas].min())) * pf if feas.any() else pf
+        if feas.any():        # EI × P(feasible), among the candidates more likely feasible than not
+            acq = expected_improvement(mu, sd, float(y[feas].min())) * pf
+            if np.any(pf >= min_feasible):
+                acq = np.where(pf >= min_feasible, acq, -1.0)
+        else:
+            acq = pf
         near = np.vstack([taken, Xa])
         dist = np.min(np.linalg.norm(cand[:, None] - near[None], axis=2), axis=1)
         acq = np.where(dist < 1e-6, -np.inf, acq)                       # no design twice
@@ -129,8 +143,10 @@ def refine_sweep(store, sweep: Sweep, executor, k: int, progress=None, seed: int
         X = np.array([[(r["params"][n] - lo[j]) / span[j] for j, n in enumerate(names)] for r in rows])
         y = np.array([sign * r["metrics"]["objective"] for r in rows])
         c = np.array([r["metrics"].get("coverage", float(r["metrics"]["feasible"])) for r in rows])
+        f = np.array([bool(r["metrics"]["feasible"]) for r in rows])
         b = min(k - proposed, max(1, getattr(executor, "workers", 1)))
-        U = propose(X, y, c, sweep.task.min_coverage, len(sweep.task.targets), b, seed + rnd)
+        U = propose(X, y, c, f, coverage_threshold(sweep.task.min_coverage, len(sweep.task.targets)), b,
+                    seed + rnd)
         designs = []
         for u in U:
             vals = dict(fixed)
