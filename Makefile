@@ -25,6 +25,7 @@ bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e ".[bench]"
 	$(BIN)/python -m studies.benchmarks.bench_kin
 	$(BIN)/python -m studies.benchmarks.bench_plan
+	$(BIN)/python -m studies.benchmarks.bench_sweep
 
 clean:
 	rm -rf $(VENV) out build *.egg-info
