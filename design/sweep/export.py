@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from design.sweep.store import StoreError, _check_existing
+from design.sweep.store import StoreError, check_existing, read_rows
 
 __all__ = ["read_sweep", "sweep_table", "write_csv", "write_parquet", "best_row", "write_atomic", "pareto_front"]
 
@@ -60,19 +60,11 @@ def read_sweep(db: str | os.PathLike) -> tuple[dict, list[dict]]:
     path = Path(db)
     if not path.is_file():
         raise StoreError(f"{path}: no such sweep database")
-    _check_existing(path)
+    check_existing(path)
     con = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
     try:
         meta = {k: json.loads(v) for k, v in con.execute("SELECT key, value FROM meta")}
-        cur = con.execute("SELECT id, key, architecture, params, origin, status, attempts, metrics, error, time_s, "
-                          "seed, worker FROM designs ORDER BY id")
-        cols = [c[0] for c in cur.description]
-        rows = []
-        for r in cur:
-            d = dict(zip(cols, r))
-            d["params"] = dict(json.loads(d["params"]))
-            d["metrics"] = json.loads(d["metrics"]) if d["metrics"] else None
-            rows.append(d)
+        rows = read_rows(con)
     finally:
         con.close()
     return meta, rows

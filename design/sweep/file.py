@@ -14,6 +14,7 @@ from typing import Any
 
 from design.task import Task, TaskError, load_task
 from design.task.file import _Reader
+from design.task.file import _architectures as _task_architectures
 
 __all__ = ["SweepError", "Sweep", "ParameterSpace", "load_sweep", "loads_sweep", "SAMPLINGS", "METRICS"]
 
@@ -22,7 +23,7 @@ SAMPLINGS = ("grid", "lhs", "sobol")
 #: metrics a sweep may store per design (objective, score and feasible are always stored)
 METRICS = ("coverage", "reach", "flips", "gci", "structural_length", "length_index", "volume")
 DEFAULT_METRICS = ("coverage", "reach", "flips", "gci", "structural_length")
-_TOP = ("name", "title", "task", "metrics", "architectures", "sampling", "evaluation", "parameters")
+_TOP = ("name", "title", "task", "metrics", "architecture", "sampling", "evaluation", "parameters")
 #: at most this many designs from the sampling (a larger sweep is several files, or --resume extends)
 MAX_DESIGNS = 1_000_000
 
@@ -137,7 +138,7 @@ def loads_sweep(text: str, path: str | None = None, base: Path | None = None, ta
         if not isinstance(m, list) or not m:
             raise r.fail("metrics", f"must be a non-empty list; allowed: {', '.join(METRICS)}")
         metrics = tuple(dict.fromkeys(r.string(x, f"metrics[{i}]", METRICS) for i, x in enumerate(m)))
-    archs = _architectures(r, raw.get("architectures"), task)
+    archs = _architectures(r, raw.get("architecture"), task)
     size = math.prod(len(ps.values) if ps.is_list else (ps.count if method == "grid" else 1) for ps in params)
     size *= (count or 1) * len(archs)
     if size > MAX_DESIGNS:
@@ -187,25 +188,14 @@ def _parameters(r: _Reader, raw: Any, chain) -> tuple[ParameterSpace, ...]:
 
 
 def _architectures(r: _Reader, raw: Any, task: Task) -> tuple[str, ...]:
-    from design.architecture import all_architectures, required_revolute
-    n = task.robot.n
-    if raw is None:
-        archs = tuple(task.architectures) or ("",)
-    elif raw == "all":
-        archs = tuple(all_architectures(n))
-    else:
-        if not isinstance(raw, list) or not raw:
-            raise r.fail("architectures", f"must be \"all\" or a non-empty list of joint-type strings, got {raw!r}")
-        archs = []
-        for i, s in enumerate(raw):
-            s = r.string(s, f"architectures[{i}]")
-            if len(s) != n or set(s) - {"R", "P"}:
-                raise r.fail(f"architectures[{i}]", f"{s!r} must be {n} letters R or P (the robot has {n} joints)")
-            archs.append(s)
-        archs = tuple(dict.fromkeys(archs))
+    """The task-file reader's joint-type strings ("" = the robot's own), less those pruned because
+    the task's orientation requirement needs more revolute joints."""
+    from design.architecture import required_revolute
+    archs = _task_architectures(r, raw, task.robot.n) if raw is not None else tuple(task.architectures)
+    archs = archs or ("",)
     need = required_revolute(task)
     kept = tuple(a for a in archs if a == "" or a.count("R") >= need)
     if not kept:
-        raise r.fail("architectures", f"every architecture has fewer than the {need} revolute joints the task's "
-                                      f"{task.targets.orientation} orientation requirement needs")
+        raise r.fail("architecture", f"every architecture has fewer than the {need} revolute joints the task's "
+                                     f"{task.targets.orientation} orientation requirement needs")
     return kept

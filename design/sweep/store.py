@@ -25,7 +25,7 @@ from typing import Iterable
 from design.sweep.file import SweepError
 from design.sweep.space import Design
 
-__all__ = ["StoreError", "Store", "STATUSES", "SCHEMA_VERSION", "APPLICATION_ID"]
+__all__ = ["StoreError", "Store", "STATUSES", "SCHEMA_VERSION", "APPLICATION_ID", "read_rows", "check_existing"]
 
 SCHEMA_VERSION = 1
 #: SQLite's application_id of an rmtkit sweep database ("RMTS")
@@ -59,7 +59,24 @@ class StoreError(SweepError):
     """A sweep database cannot be used (foreign, corrupt, another sweep's, or already there)."""
 
 
-def _check_existing(path: Path) -> None:
+_COLUMNS = "id, key, architecture, params, origin, status, attempts, metrics, error, time_s, seed, worker"
+
+
+def read_rows(con: sqlite3.Connection) -> list[dict]:
+    """Every design row of a store connection as a dict: params (name → SI value) and metrics
+    (or None) decoded from JSON."""
+    cur = con.execute(f"SELECT {_COLUMNS} FROM designs ORDER BY id")
+    cols = [c[0] for c in cur.description]
+    out = []
+    for r in cur:
+        d = dict(zip(cols, r))
+        d["params"] = dict(json.loads(d["params"]))
+        d["metrics"] = json.loads(d["metrics"]) if d["metrics"] else None
+        out.append(d)
+    return out
+
+
+def check_existing(path: Path) -> None:
     """Refuse, without writing, a file that is not an rmtkit sweep database of this schema."""
     st = os.stat(path)
     if not stat.S_ISREG(st.st_mode):
@@ -102,7 +119,7 @@ class Store:
         self.commit_rows, self.commit_seconds = commit_rows, commit_seconds
         exists = os.path.lexists(self.path)
         if exists:
-            _check_existing(self.path)
+            check_existing(self.path)
             if not resume:
                 raise StoreError(f"{self.path}: a sweep database is already there; give --resume to continue it "
                                  "or another --db")
@@ -181,17 +198,8 @@ class Store:
         return [Design(a, tuple((k, float(v)) for k, v in json.loads(p)), key, o) for a, p, key, o in rows]
 
     def rows(self) -> list[dict]:
-        """Every row as a dict (params and metrics decoded)."""
-        cur = self.con.execute("SELECT id, key, architecture, params, origin, status, attempts, metrics, error, "
-                               "time_s, seed, worker FROM designs ORDER BY id")
-        cols = [c[0] for c in cur.description]
-        out = []
-        for r in cur:
-            d = dict(zip(cols, r))
-            d["params"] = dict(json.loads(d["params"]))
-            d["metrics"] = json.loads(d["metrics"]) if d["metrics"] else None
-            out.append(d)
-        return out
+        """Every row as a dict (params and metrics decoded), in insertion order."""
+        return read_rows(self.con)
 
     # ---- writing (the driver only) --------------------------------------------------------------
     def add(self, designs: Iterable[Design], seed: int) -> int:

@@ -24,7 +24,7 @@ def test_valid_file_in_si(tmp_path):
     ('name = "x"\ntask = "task.toml"\n[sampling]\nmethod = "random"\n[parameters.A1]\nrange = [100, 400]',
      "sampling.method"),
     ('name = "x"\ntask = "task.toml"\nmetrics = ["speed"]\n[parameters.A1]\nvalues = [200]', "metrics[0]"),
-    ('name = "x"\ntask = "task.toml"\narchitectures = ["RR"]\n[parameters.A1]\nvalues = [200]', "architectures[0]"),
+    ('name = "x"\ntask = "task.toml"\narchitecture = ["RR"]\n[parameters.A1]\nvalues = [200]', "architecture[0]"),
     ('name = "x"\ntask = "task.toml"\n[evaluation]\nseeds = 0\n[parameters.A1]\nvalues = [200]', "evaluation.seeds"),
     ('name = "x"\ntask = "task.toml"\n[parameters.A1]\nvalues = [200, 900]', "parameters.A1.values[1]"),
     ('name = "x"\ntask = "task.toml"\nspeed = 3\n[parameters.A1]\nvalues = [200]', "speed"),
