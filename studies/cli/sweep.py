@@ -49,8 +49,9 @@ class _Bar:
 
     def start(self, total: int, already: int) -> None:
         if self.show:
+            import shutil
             from tqdm import tqdm
-            self.bar = tqdm(total=total, unit="design", file=sys.stderr, dynamic_ncols=True,
+            self.bar = tqdm(total=total, unit="design", file=sys.stderr, ncols=shutil.get_terminal_size().columns,
                             desc="sweep" + (f" ({already} done before)" if already else ""))
 
     def update(self, n: int, failed: int) -> None:

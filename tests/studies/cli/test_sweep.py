@@ -60,3 +60,15 @@ def test_foreign_database_is_refused(tmp_path, capsys):
     assert main(["sweep-export", str(db), "--csv", str(tmp_path / "o.csv")]) == 2
     assert not (tmp_path / "o.csv").exists()
     assert main(["sweep", "no_such_sweep"]) == 2
+
+
+def test_progress_bar_on_a_terminal(tmp_path, capsys, monkeypatch):
+    p = write_sweep(tmp_path, counts=(2, 2))
+    import sys
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    assert main(["sweep", str(p), "--db", str(tmp_path / "b.sqlite")]) == 0
+    err = capsys.readouterr().err
+    assert "4/4" in err and "failed=0" in err and "design/s" in err
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    assert main(["sweep", str(p), "--db", str(tmp_path / "q.sqlite"), "--quiet"]) == 0
+    assert capsys.readouterr() == ("", "")
