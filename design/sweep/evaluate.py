@@ -103,23 +103,16 @@ def evaluate_design(job: SweepJob, robot: kin.Robot, design: Design) -> dict:
     ev = evaluate_designs(task, p[None], VerifySettings(seeds=job.seeds, samples=job.samples, seed=job.seed))
     cov = ev.coverage[0]
     out = {"objective": float(ev.value[0]), "score": float(ev.score[0]), "feasible": bool(ev.feasible[0])}
-    for m in job.metrics:
-        if m == "coverage":
-            out[m] = cov.fraction
-        elif m == "reach":
-            out[m] = cov.reach_fraction
-        elif m == "flips":
-            out[m] = cov.flips
-        elif m == "gci":
-            out[m] = cov.gci
-        elif m == "structural_length":
-            out[m] = structural_length(chain, p)
-        elif m in ("volume", "length_index"):
-            cv = converged_volume(robot, p, start=job.samples, seed=job.seed)
-            out["volume"] = cv.volume
-            if "length_index" in job.metrics:
-                root = cv.volume ** (1 / 3) if cv.dimension == 3 else cv.volume ** 0.5
-                out["length_index"] = structural_length(chain, p) / root if root > 0 else None
+    length = structural_length(chain, p)
+    simple = {"coverage": cov.fraction, "reach": cov.reach_fraction, "flips": cov.flips, "gci": cov.gci,
+              "structural_length": length}
+    out.update({m: simple[m] for m in job.metrics if m in simple})
+    if "volume" in job.metrics or "length_index" in job.metrics:
+        cv = converged_volume(robot, p, start=job.samples, seed=job.seed)
+        out["volume"] = cv.volume
+        if "length_index" in job.metrics:
+            root = cv.volume ** (1 / 3) if cv.dimension == 3 else cv.volume ** 0.5
+            out["length_index"] = length / root if root > 0 else None
     return out
 
 

@@ -60,7 +60,8 @@ def read_sweep(db: str | os.PathLike) -> tuple[dict, list[dict]]:
     path = Path(db)
     if not path.is_file():
         raise StoreError(f"{path}: no such sweep database")
-    check_existing(path)
+    if not check_existing(path):
+        raise StoreError(f"{path}: an empty sweep database (its run was killed while creating it)")
     con = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
     try:
         meta = {k: json.loads(v) for k, v in con.execute("SELECT key, value FROM meta")}

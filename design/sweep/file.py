@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -67,7 +67,6 @@ class Sweep:
     metrics: tuple[str, ...] = DEFAULT_METRICS
     title: str = ""
     source: str = ""
-    extra: dict = field(default_factory=dict)
 
 
 class _SweepReader(_Reader):

@@ -76,8 +76,9 @@ def read_rows(con: sqlite3.Connection) -> list[dict]:
     return out
 
 
-def check_existing(path: Path) -> None:
-    """Refuse, without writing, a file that is not an rmtkit sweep database of this schema."""
+def check_existing(path: Path) -> bool:
+    """Refuse, without writing, a file that is not an rmtkit sweep database of this schema; returns
+    False for an SQLite database without any table (a run killed while creating it), else True."""
     st = os.stat(path)
     if not stat.S_ISREG(st.st_mode):
         raise StoreError(f"{path}: not a regular file; refusing to use it as a sweep database")
@@ -90,6 +91,8 @@ def check_existing(path: Path) -> None:
         con = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
         try:
             app = con.execute("PRAGMA application_id").fetchone()[0]
+            if app == 0 and con.execute("SELECT COUNT(*) FROM sqlite_master").fetchone()[0] == 0:
+                return False       # an empty database: a run killed while creating it (nothing to lose)
             if app != APPLICATION_ID:
                 raise StoreError(f"{path}: an SQLite database of another application (application_id {app}); "
                                  "refusing to use or overwrite it")
@@ -104,6 +107,7 @@ def check_existing(path: Path) -> None:
     if ver is None or ver[0] != SCHEMA_VERSION:
         raise StoreError(f"{path}: sweep database schema {ver[0] if ver else 'missing'}; this rmtkit reads "
                          f"schema {SCHEMA_VERSION}")
+    return True
 
 
 class Store:
@@ -117,9 +121,8 @@ class Store:
                  commit_seconds: float = 0.5):
         self.path = Path(path)
         self.commit_rows, self.commit_seconds = commit_rows, commit_seconds
-        exists = os.path.lexists(self.path)
+        exists = os.path.lexists(self.path) and check_existing(self.path)
         if exists:
-            check_existing(self.path)
             if not resume:
                 raise StoreError(f"{self.path}: a sweep database is already there; give --resume to continue it "
                                  "or another --db")

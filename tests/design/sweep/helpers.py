@@ -70,3 +70,10 @@ def evaluate_dying_once(job, robot, design):
         marker.touch()
         os._exit(1)
     return evaluate_design(job, robot, design)
+
+
+def evaluate_slow(job, robot, design):
+    """The ordinary evaluation after a 20 ms pause (so a test can kill a sweep part-way on any machine)."""
+    import time
+    time.sleep(0.02)
+    return evaluate_design(job, robot, design)

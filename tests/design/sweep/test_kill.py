@@ -27,10 +27,20 @@ def _done(db) -> int:
         return 0
 
 
+#: the sweep process: run_sweep with one worker process and the 20 ms-per-design evaluation
+DRIVER = """
+import sys
+from design.sweep import LocalExecutor, load_sweep, run_sweep
+from tests.design.sweep.helpers import evaluate_slow
+rep = run_sweep(load_sweep(sys.argv[1]), sys.argv[2], LocalExecutor(1), resume=sys.argv[3] == "1",
+                evaluate=evaluate_slow)
+sys.exit(0 if rep.counts["done"] == 100 else 1)
+"""
+
+
 def _start(sweep, db, resume):
-    cmd = [sys.executable, "-m", "studies.cli", "sweep", str(sweep), "--db", str(db), "--quiet", "--workers", "1"]
-    return subprocess.Popen(cmd + (["--resume"] if resume else []), cwd=ROOT, start_new_session=True,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    return subprocess.Popen([sys.executable, "-c", DRIVER, str(sweep), str(db), "1" if resume else "0"], cwd=ROOT,
+                            start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
 
 
 def _kill_when(proc, db, done_at_least, extra_delay):
@@ -41,20 +51,22 @@ def _kill_when(proc, db, done_at_least, extra_delay):
     time.sleep(extra_delay)
     os.killpg(proc.pid, signal.SIGKILL)
     proc.wait(timeout=30)
+    return _done(db)
 
 
 def test_sweep_survives_kill_9_three_times(tmp_path):
-    sweep = write_sweep(tmp_path, counts=(6, 6))
+    sweep = write_sweep(tmp_path, counts=(10, 10), extra='')
     db = tmp_path / "k.sqlite"
-    total = 36
+    total = 100
     rng = np.random.default_rng(11)
     # moments: while starting up (nothing committed yet), early in the run, late in the run
-    for i, (at, delay) in enumerate([(0, rng.uniform(0.5, 1.5)), (6, rng.uniform(0, 0.3)),
-                                     (20, rng.uniform(0, 0.3))]):
+    at_kill = []
+    for i, (at, delay) in enumerate([(0, rng.uniform(0.5, 1.5)), (10, rng.uniform(0, 0.3)),
+                                     (50, rng.uniform(0, 0.3))]):
         proc = _start(sweep, db, resume=i > 0)
-        _kill_when(proc, db, at, delay)
-        assert proc.returncode == -signal.SIGKILL
-    assert _done(db) < total                                   # the kills came before the end
+        at_kill.append(_kill_when(proc, db, at, delay))
+        assert proc.returncode == -signal.SIGKILL            # killed while running, not after it ended
+    assert any(0 < n < total for n in at_kill), at_kill       # at least one kill in the middle of the work
     proc = _start(sweep, db, resume=True)
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 0, err.decode()
@@ -64,7 +76,7 @@ def test_sweep_survives_kill_9_three_times(tmp_path):
     assert len(keys) == len(set(keys)) == total
     assert set(keys) == {d.key for d in sample_designs(sw)}
     assert all(r["status"] == "done" for r in rows)
-    job = make_job(sw)
+    job = make_job(sw)                    # the plain evaluation: evaluate_slow only waits before it
     for r in rows:
         d = Design.make(r["architecture"], r["params"])
         assert r["metrics"] == evaluate_design(job, job_robot(job, d.architecture), d), r["key"]

@@ -89,3 +89,13 @@ def test_other_sweep_or_existing_database_is_refused(tmp_path):
         Store(db, {"name": "t", "fingerprint": "different"}, resume=True)
     with Store(db, META, resume=True) as s:
         assert s.counts()["pending"] == 2
+
+
+def test_an_empty_database_left_by_a_killed_start_is_initialised(tmp_path):
+    db = tmp_path / "s.sqlite"
+    con = sqlite3.connect(db)
+    con.execute("PRAGMA journal_mode = WAL")          # what a run killed right after opening leaves
+    con.close()
+    with Store(db, META, resume=True) as s:
+        assert s.add(designs(3), seed=0) == 3
+    assert sqlite3.connect(db).execute("PRAGMA application_id").fetchone()[0] == APPLICATION_ID
