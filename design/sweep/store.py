@@ -7,6 +7,7 @@
   design is never stored twice.  Statuses: ``pending``, ``running``, ``done``, ``failed``.
 * Only the driver writes.  Results are buffered and committed in batches (every ``commit_rows`` rows
   or ``commit_seconds``), so throughput is not bound by fsync.
+* One run at a time: the driver holds an exclusive lock on ``PATH.lock`` while it runs.
 * An existing file is checked before anything is written to it: a file that is not an SQLite
   database, an SQLite database of something else, a newer schema, a failed integrity check or a
   different sweep's database is refused with one line (:class:`StoreError`), never overwritten.
@@ -110,6 +111,22 @@ def check_existing(path: Path) -> bool:
     return True
 
 
+def _run_lock(path: Path):
+    """An exclusive lock on ``PATH.lock`` for the life of a run (the kernel drops it when the process
+    dies, kill -9 included), so two drivers never write one database."""
+    import fcntl
+    try:
+        fh = open(f"{path}.lock", "a")
+    except OSError as e:
+        raise StoreError(f"{path}.lock: cannot be created ({e.strerror})") from None
+    try:
+        fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        fh.close()
+        raise StoreError(f"{path}: another sweep run is writing it (locked); wait for it or stop it") from None
+    return fh
+
+
 class Store:
     """An open sweep database.  ``meta`` (str → JSON-able) is written when the file is created and
     compared on reopening: its ``fingerprint`` must match (the same task, evaluation and metrics).
@@ -131,16 +148,19 @@ class Store:
                 self.path.parent.mkdir(parents=True, exist_ok=True)
             except OSError as e:
                 raise StoreError(f"{self.path}: cannot create its folder ({e.strerror})") from None
+        self._lock = _run_lock(self.path)
         try:
             self.con = sqlite3.connect(self.path, isolation_level=None, timeout=30.0)
             self.con.execute("PRAGMA journal_mode = WAL")
             self.con.execute("PRAGMA synchronous = NORMAL")
         except sqlite3.Error as e:
+            self._lock.close()
             raise StoreError(f"{self.path}: cannot open ({e})") from None
         if exists:
             stored = self.meta()
             if stored.get("fingerprint") != meta.get("fingerprint"):
                 self.con.close()
+                self._lock.close()
                 raise StoreError(f"{self.path}: holds sweep {stored.get('name')!r} with another task, evaluation "
                                  "budget or metrics; refusing to mix its rows (choose another --db)")
         else:
@@ -176,6 +196,7 @@ class Store:
             self.flush(force=True)
             self.con.close()
             self.con = None
+            self._lock.close()
 
     def __enter__(self):
         return self

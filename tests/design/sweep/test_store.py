@@ -99,3 +99,12 @@ def test_an_empty_database_left_by_a_killed_start_is_initialised(tmp_path):
     with Store(db, META, resume=True) as s:
         assert s.add(designs(3), seed=0) == 3
     assert sqlite3.connect(db).execute("PRAGMA application_id").fetchone()[0] == APPLICATION_ID
+
+
+def test_one_run_at_a_time(tmp_path):
+    db = tmp_path / "s.sqlite"
+    first = Store(db, META)
+    with pytest.raises(StoreError, match="another sweep run"):
+        Store(db, META, resume=True)
+    first.close()
+    Store(db, META, resume=True).close()                    # the lock is released with the run
