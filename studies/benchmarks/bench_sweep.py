@@ -35,8 +35,13 @@ from design.sweep.evaluate import Outcome
 from design.task import load_task
 
 ROBOT = Path(__file__).resolve().parents[1] / "tasks" / "robots" / "scara_design.toml"
-TASK = f'''
-name = "bench_scara"
+
+
+def task_text(name: str, count: tuple[int, int], min_coverage: float, sigma_min: float = 0.04) -> str:
+    """A SCARA task file (``scara_design`` robot): a count[0] × count[1] box of targets at
+    z = −150 mm over x ∈ [150, 350], y ∈ [−150, 150] mm, σ_min ≥ ``sigma_min``, minimise length."""
+    return f'''
+name = "{name}"
 robot = "{ROBOT}"
 length_unit = "mm"
 angle_unit = "deg"
@@ -45,13 +50,16 @@ objective = "length"
 shape = "box"
 min = [150, -150, -150]
 max = [350, 150, -150]
-count = [2, 2, 1]
+count = [{count[0]}, {count[1]}, 1]
 tolerance = 1e-3
 [dexterity]
-sigma_min = 0.04
+sigma_min = {sigma_min}
 [constraints]
-min_coverage = 1.0
+min_coverage = {min_coverage}
 '''
+
+
+TASK = task_text("bench_scara", (2, 2), 1.0)
 
 
 def sweep_text(n1: int, n2: int) -> str:

@@ -5,27 +5,10 @@ from __future__ import annotations
 from pathlib import Path
 
 from design.sweep.evaluate import evaluate_design
+from studies.benchmarks.bench_sweep import task_text
 
 ROOT = Path(__file__).resolve().parents[3]
-ROBOT = ROOT / "studies" / "tasks" / "robots" / "scara_design.toml"
-
-TASK = f'''
-name = "scara_small"
-robot = "{ROBOT}"
-length_unit = "mm"
-angle_unit = "deg"
-objective = "length"
-[target]
-shape = "box"
-min = [150, -150, -150]
-max = [350, 150, -150]
-count = [3, 3, 1]
-tolerance = 1e-3
-[dexterity]
-sigma_min = 0.04
-[constraints]
-min_coverage = 0.8
-'''
+TASK = task_text("scara_small", (3, 3), 0.8)
 
 
 def write_sweep(folder: Path, counts=(6, 6), sampling: str = "", extra: str = "", name: str = "small") -> Path:
