@@ -28,6 +28,7 @@ bench: $(STAMP)
 	$(BIN)/python -m studies.benchmarks.bench_plan
 	$(BIN)/python -m studies.benchmarks.bench_timing
 	$(BIN)/python -m studies.benchmarks.bench_design
+	$(BIN)/python -m studies.benchmarks.bench_sweep
 
 clean:
 	rm -rf $(VENV) out build *.egg-info

@@ -1,0 +1,70 @@
+"""Sweep figures: coverage against structural length with the Pareto front marked, and the
+objective over the parameter plane of a 2-parameter sweep."""
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from design.sweep.export import pareto_front
+from studies.plots.figure import save_figure
+
+__all__ = ["plot_pareto", "plot_heatmap"]
+
+
+def _done(rows: list[dict]) -> list[dict]:
+    return [r for r in rows if r["status"] == "done" and r["metrics"] and r["metrics"].get("coverage") is not None
+            and r["metrics"].get("structural_length") is not None]
+
+
+def plot_pareto(meta: dict, rows: list[dict], path):
+    """Coverage (%) against structural length (m) of every done design; the Pareto front (shorter and
+    more coverage) joined by a line, refined designs marked."""
+    done = _done(rows)
+    fig = Figure(figsize=(6.4, 4.6))
+    ax = fig.add_subplot(111)
+    if done:
+        L = np.array([r["metrics"]["structural_length"] for r in done])
+        C = 100 * np.array([r["metrics"]["coverage"] for r in done])
+        refined = np.array([r["origin"] != "sample" for r in done])
+        ax.scatter(L[~refined], C[~refined], s=10, c="tab:blue", alpha=0.6, label="sample")
+        if refined.any():
+            ax.scatter(L[refined], C[refined], s=28, c="tab:orange", marker="D", label="refined")
+        front = pareto_front(L, C)
+        o = np.argsort(L[front])
+        ax.step(L[front][o], C[front][o], where="post", c="tab:red", lw=1.5, label="Pareto front")
+        ax.scatter(L[front], C[front], s=30, facecolors="none", edgecolors="tab:red")
+    ax.set_xlabel("structural length Σ(|a|+|d|) (m)")
+    ax.set_ylabel("coverage (%)")
+    ax.set_title(f"{meta['name']}: {len(done)} designs")
+    ax.legend(loc="lower right", fontsize=8)
+    return save_figure(fig, path)
+
+
+def plot_heatmap(meta: dict, rows: list[dict], path):
+    """The objective over the two swept parameters (file units); infeasible designs hatched grey."""
+    p, q = meta["swept"]
+    sp, sq = meta["scales"][p], meta["scales"][q]
+    done = [r for r in rows if r["status"] == "done" and r["metrics"]]
+    fig = Figure(figsize=(6.4, 5.0))
+    ax = fig.add_subplot(111)
+    if done:
+        X = np.array([r["params"][p] / sp for r in done])
+        Y = np.array([r["params"][q] / sq for r in done])
+        Z = np.array([r["metrics"]["objective"] for r in done], float)
+        F = np.array([bool(r["metrics"]["feasible"]) for r in done])
+        ux, uy = np.unique(X), np.unique(Y)
+        if len(ux) * len(uy) == len(done) and len(ux) > 1 and len(uy) > 1:     # a full grid
+            G = np.full((len(uy), len(ux)), np.nan)
+            G[np.searchsorted(uy, Y), np.searchsorted(ux, X)] = np.where(F, Z, np.nan)
+            m = ax.pcolormesh(ux, uy, G, shading="nearest", cmap="viridis")
+            ax.scatter(X[~F], Y[~F], s=12, c="0.6", marker="x", label="infeasible")
+        else:
+            m = ax.scatter(X[F], Y[F], c=Z[F], s=30, cmap="viridis")
+            ax.scatter(X[~F], Y[~F], s=12, c="0.6", marker="x", label="infeasible")
+        fig.colorbar(m, ax=ax, label=f"objective: {meta['objective']}")
+        if (~F).any():
+            ax.legend(loc="upper right", fontsize=8)
+    ax.set_xlabel(f"{p} ({meta['units'][p]})")
+    ax.set_ylabel(f"{q} ({meta['units'][q]})")
+    ax.set_title(f"{meta['name']}: {meta['objective']} over {p}, {q}")
+    return save_figure(fig, path)
