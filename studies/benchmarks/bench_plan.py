@@ -48,7 +48,8 @@ import numpy as np
 
 import kin
 from planning.certify import certify_path
-from planning.ompl.planner import plan, wrist_twins
+from planning.ompl.goals import wrist_twins
+from planning.ompl.planner import plan
 from planning.validate import check_path
 from planning.windows import build_windows
 from studies.benchmarks.plan_pairs import MAX_DRAWS, Connectivity, crosses_window, draw_pairs, naive_plan
