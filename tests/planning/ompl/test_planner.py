@@ -330,20 +330,6 @@ def test_separated_query_is_answered_before_planning():
     assert res.to_dict()["separation"]["joints"] == [5]
 
 
-def test_pose_goal_across_the_wrist_window_uses_the_flipped_wrist():
-    robot = kin.load_robot("fanuc_m16ib20")
-    ws = build_windows(robot, margin=0.05)
-    start = np.array([0.0, -0.3, 0.4, 0.2, -0.6, 0.0])
-    far = np.array([0.4, -0.2, 0.3, -0.2, 0.8, 0.1])      # q5 > 0: across the wrist window
-    pose = robot.fk(far)
-    res = plan(robot, start, goal_pose=pose, windows=ws, time_limit=5.0, seed=0)
-    assert res.success and res.proven
-    assert res.path[-1][4] < 0                            # the goal branch on the start's side
-    assert np.abs(robot.fk(res.path[-1]) - pose).max() < 1e-9
-    assert res.goal_branch["in_start_cell"] >= 1 and res.goal_branch["candidates"] >= 2
-    assert check_path(robot, res.path, ws).valid
-
-
 def test_returned_paths_are_proven():
     robot = kin.load_robot("fanuc_m16ib20")
     ws = build_windows(robot, margin=0.05)
