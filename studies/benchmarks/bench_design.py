@@ -16,6 +16,7 @@ Figures (all wall times on this machine; provisional when it is loaded):
 """
 from __future__ import annotations
 
+import os
 import argparse
 import sys
 import time
@@ -79,7 +80,7 @@ def run(quick: bool = False) -> dict:
 
 def report(fig: dict) -> str:
     g, d = fig["scara_ipopt_vs_grid"], fig["scara_de_vs_ipopt"]
-    lines = ["design benchmark (wall times; provisional on a loaded machine)"]
+    lines = [f"design benchmark (wall times; load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs)"]
     for k in ("coverage_scara_box", "coverage_fanuc_weld_cell"):
         c = fig[k]
         lines.append(f"  {k[9:]:<16} {c['targets']} targets × {c['seeds']} seeds: {c['ms_per_target']:.1f} ms per "

@@ -19,7 +19,8 @@ including blending and its own dense re-check; TOPP-RA's constraints, instance a
 ``compute_trajectory``), duration, their ratios, and the largest limit overshoot between
 grid points for both — |q̇_j|/v_j and |q̈_j|/A_j on :data:`DENSE` uniform times per grid interval of
 each trajectory, over 1 (0: none).  Targets (issue 9): duration within 0.5 % of TOPP-RA's and compute
-time no more than TOPP-RA's (≤ 20 ms at 1001 points).  Figures are provisional on a loaded machine.
+time no more than TOPP-RA's (≤ 20 ms at 1001 points).  The report states the machine's load: figures taken
+while other processes run are not reliable.
 """
 from __future__ import annotations
 
