@@ -27,6 +27,7 @@ from design.coverage import coverage
 from design.optimise import VerifySettings, optimise
 from design.optimise.grid import grid_search
 from design.task import load_task
+from studies.cli.common import dump
 
 TASKS = "studies/tasks"
 
@@ -110,11 +111,7 @@ def main(argv=None) -> int:
     ap.add_argument("--quick", action="store_true", help="a 20 × 20 grid and fewer starts (a smoke run)")
     args = ap.parse_args(argv)
     fig = run(args.quick)
-    if args.json:
-        from studies.cli.common import dump
-        print(dump(fig))
-    else:
-        print(report(fig))
+    print(dump(fig) if args.json else report(fig))
     return 0
 
 

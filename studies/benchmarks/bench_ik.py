@@ -27,7 +27,6 @@ result.  A MISS does not change the exit status (0); an error does.
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import platform
 import sys
@@ -38,6 +37,7 @@ import numpy as np
 import kin
 from kin.ik.analytic import analytic_ik
 from studies.benchmarks.peers import dh_pre_post, rtb_robot
+from studies.cli.common import dump
 
 DEFAULT_ROBOT = "fanuc_m16ib20"
 SEED = 20240611
@@ -292,7 +292,7 @@ def main(argv=None) -> int:
         for per in [R["single"], *R["unreachable"]["by_kind"].values()]:
             for v in per.values():
                 v.pop("times_ms", None)
-        print(json.dumps(R, default=float))
+        print(dump(R))
     else:
         print(format_report(R))
     return 0

@@ -50,6 +50,7 @@ from kin.compiled import WANT_J, WANT_MANIP, WANT_T, default_threads
 from studies.benchmarks.kin_report import format_report
 from studies.benchmarks.load import ForeignLoad, busy_process
 from studies.benchmarks.peers import fd_jacobian, pinocchio_batch, pinocchio_loops, rtb_batch, rtb_loops
+from studies.cli.common import dump
 
 DEFAULT_ROBOT = "fanuc_m16ib20"
 SEED = 20240611
@@ -388,7 +389,7 @@ def main(argv=None) -> int:
     except Exception as e:  # a failed measurement is an error, not a MISS
         print(f"bench_kin: {type(e).__name__}: {e}", file=sys.stderr)
         return 1
-    print(json.dumps(R, indent=None if args.json else 2, default=float) if args.json else format_report(R))
+    print(dump(R) if args.json else format_report(R))
     return 0
 
 

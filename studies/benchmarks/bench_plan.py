@@ -36,7 +36,6 @@ of the returned paths dense-valid.  A MISS does not change the exit status (0); 
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
 import platform
@@ -53,6 +52,7 @@ from planning.ompl.planner import plan
 from planning.validate import check_path
 from planning.windows import build_windows
 from studies.benchmarks.plan_pairs import MAX_DRAWS, Connectivity, crosses_window, draw_pairs, naive_plan
+from studies.cli.common import dump
 
 ROBOTS = ("fanuc_m16ib20", "puma560", "ur3_homework")
 MARGIN = 0.05            # rad, half-width of every window
@@ -329,17 +329,7 @@ def main(argv=None) -> int:
     except Exception as e:  # a failed measurement is an error, not a MISS
         print(f"bench_plan: {type(e).__name__}: {e}", file=sys.stderr)
         return 1
-
-    def clean(x):   # JSON without NaN
-        if isinstance(x, float) and not math.isfinite(x):
-            return None
-        if isinstance(x, dict):
-            return {k: clean(v) for k, v in x.items()}
-        if isinstance(x, (list, tuple)):
-            return [clean(v) for v in x]
-        return x
-
-    print(json.dumps(clean(R), default=float) if args.json else format_report(R))
+    print(dump(R) if args.json else format_report(R))
     return 0
 
 

@@ -22,7 +22,6 @@ whose per-design function does nothing (:func:`evaluate_noop`) on 1 worker, star
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import platform
 import sys
@@ -33,6 +32,7 @@ from pathlib import Path
 from design.sweep import DaskExecutor, Design, LocalExecutor, Store, loads_sweep, read_sweep, run_sweep
 from design.sweep.evaluate import Outcome
 from design.task import load_task
+from studies.cli.common import dump
 
 ROBOT = Path(__file__).resolve().parents[1] / "tasks" / "robots" / "scara_design.toml"
 
@@ -169,7 +169,7 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     log = None if args.json else (lambda msg: print(msg, file=sys.stderr, flush=True))
     R = run(args.quick, log)
-    print(json.dumps(R) if args.json else format_report(R))
+    print(dump(R) if args.json else format_report(R))
     return 0
 
 

@@ -25,7 +25,6 @@ while other processes run are not reliable.
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import platform
 import statistics
@@ -36,6 +35,7 @@ import numpy as np
 
 import kin
 from planning.timing import BlendedPath, blend_path, time_parameterize
+from studies.cli.common import dump
 
 WAYPOINTS = 100
 GRIDS = (301, 1001)
@@ -195,7 +195,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--quick", action="store_true", help=f"{QUICK_REPEATS} repeats instead of {REPEATS}")
     args = ap.parse_args(argv)
     R = run(args.quick)
-    print(json.dumps(R) if args.json else format_report(R))
+    print(dump(R) if args.json else format_report(R))
     return 0
 
 
