@@ -82,6 +82,16 @@ def require_task_rows(robot: kin.Robot) -> kin.Robot:
     return robot
 
 
+def positions(chain, values: Sequence[str], what: str) -> np.ndarray:
+    """Coordinates given in the robot file's length unit → SI (m), each within ±10 km."""
+    from kin.robotfile import MAX_LENGTH
+    xyz = np.array(numbers(values, what)) * chain.length_scale
+    if np.abs(xyz).max() > MAX_LENGTH:
+        raise CliInputError(f"{what}: coordinates must lie within ±{MAX_LENGTH / chain.length_scale:g} "
+                            f"{chain.length_unit} (10 km)")
+    return xyz
+
+
 def joint_values(robot: kin.Robot, values: Sequence[str], what: str = "joint values") -> np.ndarray:
     """A configuration given in the robot file's units → SI, checked for count and finiteness."""
     q = numbers(values, what)

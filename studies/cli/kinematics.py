@@ -7,10 +7,9 @@ import sys
 import numpy as np
 
 import kin
-from kin.robotfile import MAX_LENGTH
 from kin.transforms import make_transform, rpy_to_matrix
 
-from studies.cli.common import EXIT_FAIL, EXIT_OK, dump, joint_values, numbers, require_task_rows, seed
+from studies.cli.common import EXIT_FAIL, EXIT_OK, dump, joint_values, numbers, positions, require_task_rows, seed
 from studies.units import joint_units, pose_to_file, unit_names
 
 
@@ -117,9 +116,7 @@ def cmd_jacobian(args, load_robot) -> int:
 def cmd_ik(args, load_robot) -> int:
     robot = load_robot(args.robot)
     c = robot.chain
-    xyz = np.array(numbers(args.xyz, "--xyz")) * c.length_scale
-    if np.abs(xyz).max() > MAX_LENGTH:
-        raise kin.RmtError(f"--xyz: coordinates must lie within ±{MAX_LENGTH / c.length_scale:g} {c.length_unit} (10 km)")
+    xyz = positions(c, args.xyz, "--xyz")
     if args.rpy is not None:
         rpy = np.array(numbers(args.rpy, "--rpy")) * c.angle_scale
         target = make_transform(rpy_to_matrix(rpy), xyz)

@@ -14,7 +14,7 @@ from kin.output import write_output
 from kin.transforms import make_transform, rpy_to_matrix
 
 from studies.cli.common import (MAX_SIGMA, MAX_TIME_LIMIT, CliInputError, bounded, dump, joint_values, numbers,
-                                output_file, require_task_rows, seed, windows_from_args)
+                                output_file, positions, require_task_rows, seed, windows_from_args)
 from studies.units import joint_units
 
 
@@ -87,10 +87,8 @@ def cmd_plan(args, load_robot) -> int:
     if args.goal is not None:
         goal = joint_values(robot, args.goal, "--goal")
     else:
-        xyz = np.array(numbers(args.goal_pose[:3], "--goal-pose")) * c.length_scale
+        xyz = positions(c, args.goal_pose[:3], "--goal-pose")
         rpy = np.array(numbers(args.goal_pose[3:], "--goal-pose")) * c.angle_scale
-        if not np.all(np.abs(xyz) <= 1e4):
-            raise CliInputError("--goal-pose: X Y Z must be within ±10 km")
         if not np.all(np.abs(rpy) <= 2 * math.pi + 1e-9):
             raise CliInputError(f"--goal-pose: R P Y must be within ±{2 * math.pi / c.angle_scale:g} {c.angle_unit} "
                                 "(the robot file's angle unit)")
@@ -148,10 +146,10 @@ def _keep_out(chain, args) -> list:
     from planning.ompl.keep_out import load_keep_out
     boxes = [] if args.keep_out is None else load_keep_out(args.keep_out, chain.length_unit)
     for raw in args.keep_out_box or []:
-        v = np.array(numbers(raw, "--keep-out-box")) * chain.length_scale
-        if not (np.all(np.abs(v) <= 1e4) and np.all(v[:3] < v[3:])):
+        v = positions(chain, raw, "--keep-out-box")
+        if not np.all(v[:3] < v[3:]):
             raise CliInputError(f"--keep-out-box {' '.join(raw)}: needs X0 Y0 Z0 X1 Y1 Z1 with each lower corner "
-                                "value below the upper one, within ±10 km")
+                                "value below the upper one")
         boxes.append(KeepOutBox(tuple(v[:3]), tuple(v[3:])))
     return boxes
 
