@@ -24,13 +24,13 @@ and a Lipschitz bound of the Jacobian, :func:`planning.certify.certify_sigma`; `
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field, fields
 
 import numpy as np
 
 from kin.errors import ConfigurationError
 
-from planning.certify import certify_path, certify_sigma
+from planning.certify import PathProof, certify_path, certify_sigma
 from planning.windows import WindowSet
 
 DEFAULT_STEP_ANGLE = math.radians(0.1)   # rad
@@ -64,9 +64,10 @@ class PathCheck:
     checked_states: int
     windows_check: str | None = None     # "proven", "sampled" (not every segment proven) or None (no windows)
     sigma_check: str | None = None       # the same for the σ_min floor (None: no floor)
+    proof: PathProof | None = field(default=None, repr=False, compare=False)   # the windows' proof (prove=True)
 
     def to_dict(self) -> dict:
-        d = asdict(self)
+        d = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "proof"}
         d["first_violation"] = None if self.first_violation is None else asdict(self.first_violation)
         return d
 
@@ -198,10 +199,10 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
                 found["sigma_min"] = Violation(int(seg[k]), "sigma_min", f"σ_min = {sig[k]:.3g} < {sigma_min:.3g} "
                                                f"{_label(int(seg[k]), float(frac[k]))}")
     windows_check = None
+    proof = certify_path(windows, P) if prove else None      # (no windows: proven at once)
     if windows is not None and windows.windows:
         windows_check = "sampled"
-        if prove:
-            proof = certify_path(windows, P)
+        if proof is not None:
             v = proof.violation
             if v is not None and ("window" not in found or v.segment < found["window"].index):
                 found["window"] = Violation(v.segment, "window", f"inside window '{v.window}' "
@@ -221,4 +222,4 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
     for kind in ("limits", "window", "sigma_min"):
         if kind in found:
             note(found[kind])
-    return PathCheck(first is None, first, sig_min, sig_seg, max_step_seen, total, windows_check, sigma_check)
+    return PathCheck(first is None, first, sig_min, sig_seg, max_step_seen, total, windows_check, sigma_check, proof)

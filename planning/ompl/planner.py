@@ -29,7 +29,7 @@ import numpy as np
 
 from kin.errors import ConfigurationError
 
-from planning.certify import PathProof, Separation, certify_path, free_cells
+from planning.certify import PathProof, Separation, free_cells
 from planning.errors import PlanningError
 from planning.ompl.bindings import ob, og, quiet_rng_seed
 from planning.validate import (
@@ -251,18 +251,13 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
             chk = check_path(robot, cand, windows, sigma_min, check_step_angle, check_step_length)
             box_row = _box_violation(robot, checker, cand, check_step_angle, check_step_length) \
                 if chk.valid and checker.boxes else None
-            proof = certify_path(windows, cand) if chk.valid and box_row is None else None
-            if proof is not None and proof.violation is None:
+            if chk.valid and box_row is None:       # check_path proved the windows (chk.proof)
+                proof = chk.proof
                 attempts.append(f"{status}; dense check passed; windows "
                                 + ("proven clear" if proof.proven else f"sampled on {len(proof.unproven)} segment(s)"))
                 return PlanResult(True, cand, cls.__name__, time.perf_counter() - t0, path_length(cand),
                                   chk.min_sigma, chk, status, straight_ok, goal_q, attempts, proof=proof,
                                   goal_branch=goal_branch)
-            if proof is not None:
-                v = proof.violation
-                attempts.append(f"{status}; proof failed: segment {v.segment} enters window '{v.window}' at "
-                                f"{v.t:.4f} of it")
-                continue
             if not chk.valid:
                 attempts.append(f"{status}; dense check failed: {chk.first_violation.kind} at row "
                                 f"{chk.first_violation.index}")
