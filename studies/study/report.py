@@ -42,8 +42,7 @@ def study_report(results: dict, path: Path) -> str:
             else f"area ≈ {ws['area']:.4g} m²"
         out += ["", f"workspace: {ws['counts']['samples']} samples, {vol}, functional "
                     f"{ws['functional_volume'] if ws['area'] is None else ws['functional_area']:.4g}; "
-                    f"{100 * ws['counts']['near_singular_fraction']:.1f} % near-singular; reach {ws['reach']:.4g} m; "
-                    f"plot {ws['plot']}"]
+                    f"{100 * ws['counts']['near_singular_fraction']:.1f} % near-singular; reach {ws['reach']:.4g} m"]
     p = results.get("plan")
     if p:
         if p["success"]:
@@ -51,8 +50,8 @@ def study_report(results: dict, path: Path) -> str:
                         f"{p['length']:.4g} vs straight line {p['straight_line_length']:.4g}"
                         f"{' (blocked by a window)' if not p['straight_line_valid'] else ''}; min σ_min "
                         f"{p['min_sigma']:.3g}; dense check passed; windows "
-                        f"{'proven clear along every segment' if p.get('proven') else 'sampled'}; {p.get('csv', '')}"]
+                        f"{'proven clear along every segment' if p.get('proven') else 'sampled'}; waypoints in plan.csv"]
         else:
             out += ["", f"plan: no path found ({p['status']})"]
-    out += ["", f"wrote {path}"]
+    out += ["", f"report: {Path(path).resolve()}"]
     return "\n".join(out)

@@ -1,13 +1,11 @@
-"""Running a study (``rmt study``, ``make run``): kinematics, the singular set, its windows, the
-functional workspace and a planned joint path around the windows, for one machine.
+"""A study file run as a study (``rmt study my_study.toml``): kinematics at the file's configurations,
+the singular set, its windows, the functional workspace and a planned joint path around the windows.
 
-The study file's format (every key, unit and default) is in the README ("Study files") and is
-validated by :func:`studies.study.kinematics.load_study` before anything runs.
-
-:func:`run_study` writes ``results.json``, ``workspace.png`` and ``plan.csv`` into a fresh hidden
-directory beside ``out_dir`` and moves it into place only when the study has finished
-(:func:`kin.output.fresh_directory`), so an interrupted or failed run never leaves new files beside
-old results.  ``results.json`` is strict JSON: a value that is not finite is written as ``null``.
+The file's format (every key, unit and default) is in the README ("Study files") and is validated by
+:func:`studies.study.kinematics.load_study` before anything runs.  :func:`run_study` writes
+``report.html``, ``results.json`` (strict JSON), ``workspace.png`` and ``plan.csv`` into a fresh
+directory that replaces ``out_dir`` only when the study has finished
+(:func:`studies.study.context.run_study_function`).
 """
 from __future__ import annotations
 
@@ -15,80 +13,64 @@ from pathlib import Path
 
 import numpy as np
 
-import kin
-from kin.output import fresh_directory
+from studies.cli.common import require_task_rows
+from studies.study import sections as sec
+from studies.study.context import Study, run_study_function
 
-from studies.cli.common import jsonable, require_task_rows
-from studies.study import kinematics as ks
-
-#: the files a run writes (an existing run directory holding anything else is not replaced)
-RUN_FILES = ("results.json", "workspace.png", "plan.csv")
+__all__ = ["run_study", "file_study"]
 
 
-def run_study(study: dict, out_dir: str | Path, progress=None) -> dict:
-    """Run every section of a loaded study (:func:`~studies.study.kinematics.load_study`); returns the
-    results dict, also written to ``out_dir/results.json`` with the plots.  ``results["ok"]`` is
-    False when the plan section found no path."""
-    say = progress or (lambda text: None)
-    out_dir = Path(out_dir)
-    with fresh_directory(out_dir, RUN_FILES) as tmp:
-        results = _run(study, out_dir, tmp, say)
-        results = jsonable(results)
-        ks.write_results(results, tmp)
+def file_study(study: dict):
+    """The study function of a loaded study file (:func:`~studies.study.kinematics.load_study`)."""
+
+    def run(s: Study) -> None:
+        robot = require_task_rows(s.robot(study["robot"]))
+        c = robot.chain
+        s.input("study file robot", study["robot"])
+        with s.section("Kinematics"):
+            sec.dh_table(s, robot)
+            sec.configurations_table(s, robot, study["configurations"])
+            s.results["backend"] = robot.backend
+        analysis = windows = None
+        if "singularities" in study or "windows" in study or "plan" in study:
+            with s.section("Singular set"):
+                analysis = sec.singular_set(s, robot)
+        if "windows" in study:
+            from planning.windows import build_windows
+
+            from studies.cli.common import factor_margins
+            with s.section("Windows"):
+                margin = study["windows"]["margin"]
+                s.input("windows: margin (file units)", margin)
+                margins = factor_margins(c, analysis, margin, "windows.margin")
+                windows = build_windows(robot, margin=margins, analysis=analysis)
+                w = sec.windows_table(s, robot, windows, f"margin {margin:g}", key="margin")
+                s.results["windows"] = {**windows.to_dict(), "share_of_joint_space": w["share_of_joint_space"]}
+        plan_res = None
+        if "plan" in study:
+            p = study["plan"]
+            with s.section("Planned path"):
+                plan_res = sec.planned_path(s, robot, windows, c.to_si(p["start"]), c.to_si(p["goal"]),
+                                            planner=p["planner"], time_limit=p["time_limit"], seed=p["seed"],
+                                            objective=p["objective"])
+                if not plan_res.success:
+                    s.finding(f"The plan found no path ({plan_res.status}).", ok=False)
+                else:
+                    s.finding(f"Planned path: {len(plan_res.path)} waypoints, windows "
+                              f"{'proven clear' if plan_res.proven else 'clear at sampled states'}.")
+        if "workspace" in study:
+            w = study["workspace"]
+            with s.section("Workspace"):
+                path = plan_res.path if plan_res is not None and plan_res.success else None
+                q_view = path[0] if path is not None else np.zeros(c.n)
+                sec.workspace(s, robot, w["samples"], w["seed"], q_view=q_view, path=path)
+    return run
+
+
+def run_study(study: dict, out_dir: str | Path, progress=None, quick: bool = False) -> dict:
+    """Run a loaded study file into ``out_dir``; returns the results dict also written to
+    ``out_dir/results.json``.  ``results["ok"]`` is False when the plan section found no path."""
+    _, results = run_study_function(file_study(study), study["name"], study.get("title") or study["name"], out_dir,
+                                    quick=quick, progress=progress)
     return results
 
-
-def _run(study: dict, out_dir: Path, tmp: Path, say) -> dict:
-    robot = require_task_rows(kin.load_robot(study["robot"]))
-    say("kinematics")
-    results = ks.run_kinematics_study(study)
-    c = robot.chain
-    results["ok"] = True
-    analysis = None
-    if "singularities" in study or "windows" in study or "plan" in study:
-        from kin.singular import analyse_singularities
-
-        from studies.cli.singular import singularities_json
-        say("singular set")
-        analysis = analyse_singularities(robot)
-        results["singularities"] = singularities_json(robot, analysis)
-    windows = None
-    if "windows" in study:
-        from planning.windows import build_windows
-
-        from studies.cli.common import factor_margins
-        margins = factor_margins(c, analysis, study["windows"]["margin"], "windows.margin")
-        say("windows")
-        windows = build_windows(robot, margin=margins, analysis=analysis)
-        results["windows"] = windows.to_dict()
-        Q = robot.random_configurations(200_000, seed=0)
-        results["windows"]["share_of_joint_space"] = float(windows.contains(Q).mean())
-    if "workspace" in study:
-        from design.workspace import compute_workspace
-
-        from studies.plots import plot_workspace
-        sec = study["workspace"]
-        say("workspace")
-        ws = compute_workspace(robot, n_samples=sec["samples"], seed=sec["seed"])
-        results["workspace"] = ws.to_dict()
-        plot_workspace(ws, tmp / "workspace.png", title=f"{c.title or c.name}: functional workspace")
-        results["workspace"]["plot"] = str(out_dir / "workspace.png")
-    if "plan" in study:
-        from planning.ompl.planner import plan
-
-        from studies.cli.plan import write_path_csv
-        sec = study["plan"]
-        start, goal = c.to_si(sec["start"]), c.to_si(sec["goal"])
-        say("plan")
-        res = plan(robot, start, goal, windows, planner=sec["planner"], time_limit=sec["time_limit"],
-                   seed=sec["seed"], objective=sec["objective"])
-        d = res.to_dict()
-        d["path"] = c.from_si(res.path).tolist() if res.success else []
-        d["straight_line_length"] = float(np.linalg.norm(goal - start))
-        if res.success:
-            write_path_csv(robot, res.path, tmp / "plan.csv")
-            d["csv"] = str(out_dir / "plan.csv")
-        else:
-            results["ok"] = False
-        results["plan"] = d
-    return results

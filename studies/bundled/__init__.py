@@ -1,0 +1,35 @@
+"""The bundled studies (``rmt study --list``): each is a module with ``NAME``, ``TITLE``, a docstring
+(the report's introduction) and ``run(s: studies.study.Study)``.  Read one, copy it, change it: a copy
+runs as ``python my_study.py [--quick] [--out DIR]`` (see :func:`studies.study.script.main`).
+
+The modules are imported only when a study is run or listed, so ``rmt --help`` stays fast.
+"""
+from __future__ import annotations
+
+import importlib
+from types import ModuleType
+
+from kin.errors import RmtError
+
+#: the bundled studies in the order ``rmt study --list`` shows them; the first is the default
+STUDIES = ("fanuc_singularities", "scara_error_window", "cnc_rrrppp", "ur3_drawing", "puma_configurations",
+           "scara_design")
+DEFAULT = STUDIES[0]
+
+
+class UnknownStudyError(RmtError, LookupError):
+    """No bundled study has that name."""
+
+
+def load(name: str) -> ModuleType:
+    """The module of a bundled study by name."""
+    if name not in STUDIES:
+        raise UnknownStudyError(f"unknown study {name!r}; bundled studies: {', '.join(STUDIES)} "
+                                "(or give a study .toml file)")
+    return importlib.import_module(f"studies.bundled.{name}")
+
+
+def available() -> list[str]:
+    """The bundled studies whose module exists (all of :data:`STUDIES` in a complete install)."""
+    import importlib.util
+    return [n for n in STUDIES if importlib.util.find_spec(f"studies.bundled.{n}") is not None]
