@@ -126,8 +126,9 @@ def test_broken_robot_file_exit_2(capsys, tmp_path):
     assert str(f) in err and "joints[0].limits" in err and "degree" in err
 
 
-def test_study_writes_results(tmp_path, capsys):
-    code, out, _ = run(capsys, "study", "--out", str(tmp_path))
+def test_study_file_writes_results(tmp_path, capsys):
+    from studies.study.kinematics import DEFAULT_STUDY
+    code, out, _ = run(capsys, "study", str(DEFAULT_STUDY), "--out", str(tmp_path))
     assert code == 0
     path = tmp_path / "fanuc_m16ib20" / "results.json"
     d = json.loads(path.read_text())
@@ -136,7 +137,7 @@ def test_study_writes_results(tmp_path, capsys):
     # docs/machines.md §3: q = 0 -> p = (1.02, 0, 1.365), R = I; and q5 = 0 is the wrist singularity
     np.testing.assert_allclose(zero["position"], [1.02, 0, 1.365], atol=1e-12)
     assert zero["sigma_min"] < 1e-12 and zero["det"] == pytest.approx(0.0, abs=1e-12)
-    assert str(path) in out
+    assert str(path.with_name("report.html")) in out
 
 
 def test_console_script_no_traceback():

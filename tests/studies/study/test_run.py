@@ -46,7 +46,7 @@ def test_failed_plan_exits_1_with_strict_json(tmp_path, capsys):
     # the split is real: no configuration with q2 in the window is valid, so no path can cross it
     [w] = [w for w in d["windows"]["windows"] if w["joints"] == [2]]
     assert w["intervals"][0][0] <= 0.0 <= w["intervals"][0][1]
-    assert _tree(tmp_path / "out") == ["scara_split", "scara_split/results.json", "scara_split/workspace.png"]
+    assert _tree(tmp_path / "out") == ["scara_split", "scara_split/report.html", "scara_split/results.json", "scara_split/workspace.png"]
 
 
 def test_interrupted_run_keeps_the_old_results(tmp_path, capsys, monkeypatch):
@@ -54,7 +54,7 @@ def test_interrupted_run_keeps_the_old_results(tmp_path, capsys, monkeypatch):
     p.write_text(STUDY.replace("[plan]", "[plan_off]").split("[plan_off]")[0])
     assert main(["study", str(p), "--out", str(tmp_path / "out")]) == 0
     run = tmp_path / "out" / "scara_split"
-    before = {f: (run / f).read_bytes() for f in ("results.json", "workspace.png")}
+    before = {f: (run / f).read_bytes() for f in ("report.html", "results.json", "workspace.png")}
 
     import design.workspace
 
@@ -64,7 +64,7 @@ def test_interrupted_run_keeps_the_old_results(tmp_path, capsys, monkeypatch):
     assert main(["study", str(p), "--out", str(tmp_path / "out")]) == 130
     capsys.readouterr()
     assert {f: (run / f).read_bytes() for f in before} == before
-    assert _tree(tmp_path / "out") == ["scara_split", "scara_split/results.json", "scara_split/workspace.png"]
+    assert _tree(tmp_path / "out") == ["scara_split", "scara_split/report.html", "scara_split/results.json", "scara_split/workspace.png"]
 
 
 def test_study_refuses_to_replace_foreign_files(tmp_path, capsys):

@@ -1,0 +1,117 @@
+"""The study context and its run directory: results.json is strict JSON listing every file the run
+wrote, figures are written and embedded, a failed finding fails the study, file names cannot escape
+the directory, a rerun replaces only what a run wrote, an interrupted run leaves the old one alone."""
+from __future__ import annotations
+
+import json
+import sys
+import types
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+from kin.output import OutputError
+from studies.study import Study, main, run_study_function
+
+
+def _strict(text):
+    def bad(c):
+        raise AssertionError(f"non-strict JSON constant {c}")
+    return json.loads(text, parse_constant=bad)
+
+
+def _study(s: Study):
+    s.input("seed", 7)
+    with s.section("Numbers"):
+        s.text("some `code`")
+        s.table(["x (m)"], [[1.5], [None]])
+        fig = Figure()
+        ax = fig.add_subplot()
+        ax.plot([0, 1], [0, 1])
+        ax.set_xlabel("t (s)")
+        s.figure(fig, "line", "a line")
+        s.file("data.csv", "a,b\n1,2\n")
+        s.results["values"] = {"nan": float("nan"), "inf": np.inf, "arr": np.arange(3), "f32": np.float32(0.5)}
+    s.finding("all good")
+
+
+def test_run_writes_report_results_and_files(tmp_path):
+    s, results = run_study_function(_study, "demo", "Demo", tmp_path / "demo")
+    d = _strict((tmp_path / "demo" / "results.json").read_text())
+    assert d == results
+    assert d["values"] == {"nan": None, "inf": None, "arr": [0, 1, 2], "f32": 0.5}
+    assert d["ok"] is True and d["study"] == "demo" and d["meta"]["inputs"] == {"seed": 7}
+    assert sorted(p.name for p in (tmp_path / "demo").iterdir()) == d["meta"]["files"] == \
+        ["data.csv", "line.png", "report.html", "results.json"]
+    assert (tmp_path / "demo" / "line.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert (tmp_path / "demo" / "data.csv").read_text() == "a,b\n1,2\n"
+    page = (tmp_path / "demo" / "report.html").read_text()
+    assert "all good" in page and "Numbers" in page and "numpy" in d["meta"]["versions"]
+    assert set(d["meta"]["timings"]) == {"Numbers"} and d["meta"]["timings"]["Numbers"] >= 0
+
+
+def test_failed_finding_fails_the_study(tmp_path):
+    def run(s):
+        with s.section("x"):
+            s.finding("the plan found no path", ok=False)
+    s, d = run_study_function(run, "f", "F", tmp_path / "f")
+    assert s.ok is False and d["ok"] is False and d["findings"] == [{"text": "the plan found no path", "ok": False}]
+
+
+@pytest.mark.parametrize("name", ["../escape.csv", "a/b.csv", ".hidden", "report.html", "results.json", ""])
+def test_file_names_are_checked(tmp_path, name):
+    def run(s):
+        s.file(name, "x")
+    with pytest.raises(ValueError):
+        run_study_function(run, "n", "N", tmp_path / "n")
+    assert not (tmp_path / "n").exists() and not (tmp_path / "escape.csv").exists()
+
+
+def test_blocks_need_a_section(tmp_path):
+    with pytest.raises(RuntimeError, match="section"):
+        run_study_function(lambda s: s.text("x"), "n", "N", tmp_path / "n")
+
+
+def test_rerun_replaces_its_own_files_but_refuses_foreign_ones(tmp_path):
+    run_study_function(_study, "demo", "Demo", tmp_path / "demo")
+
+    def smaller(s):
+        with s.section("only"):
+            s.text("x")
+    run_study_function(smaller, "demo", "Demo", tmp_path / "demo")      # the old files were listed: replaced
+    assert sorted(p.name for p in (tmp_path / "demo").iterdir()) == ["report.html", "results.json"]
+    (tmp_path / "demo" / "mine.txt").write_text("keep")
+    with pytest.raises(OutputError, match="mine.txt"):
+        run_study_function(smaller, "demo", "Demo", tmp_path / "demo")
+    assert (tmp_path / "demo" / "mine.txt").read_text() == "keep"
+
+
+def test_interrupted_run_leaves_the_previous_one(tmp_path):
+    run_study_function(_study, "demo", "Demo", tmp_path / "demo")
+    before = {p.name: p.read_bytes() for p in (tmp_path / "demo").iterdir()}
+
+    def interrupted(s):
+        with s.section("x"):
+            s.file("new.csv", "x")
+            raise KeyboardInterrupt
+    with pytest.raises(KeyboardInterrupt):
+        run_study_function(interrupted, "demo", "Demo", tmp_path / "demo")
+    assert {p.name: p.read_bytes() for p in (tmp_path / "demo").iterdir()} == before
+    assert [p.name for p in tmp_path.iterdir()] == ["demo"]
+
+
+def test_a_copied_study_runs_as_a_script(tmp_path, capsys):
+    mod = types.ModuleType("my_study")
+    mod.__doc__ = "My study.\n\nMore."
+    mod.NAME, mod.TITLE, mod.run = "my_study", "My study", _study
+    sys.modules["my_study"] = mod
+    try:
+        assert main(mod, ["--quick", "--out", str(tmp_path)]) == 0
+    finally:
+        del sys.modules["my_study"]
+    out = capsys.readouterr().out
+    assert "✓ all good" in out and str(tmp_path / "my_study" / "report.html") in out
+    d = _strict((tmp_path / "my_study" / "results.json").read_text())
+    assert d["quick"] is True
+    assert "My study." in (tmp_path / "my_study" / "report.html").read_text()
