@@ -12,12 +12,15 @@ import numpy as np
 
 import kin
 
-__all__ = ["robot_view", "frame_origins", "MAX_CLOUD_POINTS", "MAX_ANIMATION_FRAMES"]
+__all__ = ["robot_view", "frame_origins", "densify", "MAX_CLOUD_POINTS", "MAX_ANIMATION_FRAMES"]
 
 #: at most this many workspace samples are drawn (uniform random subset, seed 0)
 MAX_CLOUD_POINTS = 12_000
-#: a path with more waypoints is resampled to this many animation frames (the first and last kept)
+#: the path is animated in this many frames: a longer path is subsampled (its first and last waypoints
+#: kept), a shorter one is interpolated linearly in joint space (as its segments are executed)
 MAX_ANIMATION_FRAMES = 60
+#: the tool's trace is drawn through this many configurations along the joint path
+DENSE_POINTS = 240
 _AXIS_COLOURS = ("#d62728", "#2ca02c", "#1f77b4")        # x red, y green, z blue (the usual RGB frames)
 
 
@@ -32,6 +35,19 @@ def _frames(robot: kin.Robot, q: np.ndarray) -> np.ndarray:
 def frame_origins(robot: kin.Robot, q) -> np.ndarray:
     """(n+2, 3) origins of the base, the joint frames and the tool, in the robot file's length unit."""
     return _frames(robot, q)[:, :3, 3] / robot.chain.length_scale
+
+
+def densify(Q: np.ndarray, m: int) -> np.ndarray:
+    """``m`` configurations equally spaced in joint-space arc length along the polyline ``Q`` (M, n),
+    its first and last waypoints included (a path of one waypoint is returned as it is)."""
+    Q = np.asarray(Q, float)
+    if len(Q) < 2:
+        return Q.copy()
+    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(Q, axis=0), axis=1))]
+    if s[-1] == 0.0:
+        return np.repeat(Q[:1], m, axis=0)
+    t = np.linspace(0.0, s[-1], m)
+    return np.stack([np.interp(t, s, Q[:, j]) for j in range(Q.shape[1])], axis=1)
 
 
 def _robot_traces(robot: kin.Robot, q: np.ndarray, axis_len: float) -> list[dict]:
@@ -85,22 +101,24 @@ def robot_view(robot: kin.Robot, q, *, cloud: np.ndarray | None = None, near_sin
     steps = []
     if path is not None and len(path):
         Q = np.asarray(path, float)
-        tool = np.array([frame_origins(robot, qk)[-1] for qk in Q])
+        dense = densify(Q, DENSE_POINTS)
+        tool = np.array([frame_origins(robot, qk)[-1] for qk in dense])
         pts.append(tool)
         data.append(go.Scatter3d(x=tool[:, 0], y=tool[:, 1], z=tool[:, 2], mode="lines", name="planned tool path",
                                  line=dict(color="#ff7f0e", width=5), hoverinfo="skip"))
-        idx = np.unique(np.round(np.linspace(0, len(Q) - 1, min(len(Q), MAX_ANIMATION_FRAMES))).astype(int))
+        anim = densify(Q, MAX_ANIMATION_FRAMES) if len(Q) < MAX_ANIMATION_FRAMES else \
+            Q[np.unique(np.round(np.linspace(0, len(Q) - 1, MAX_ANIMATION_FRAMES)).astype(int))]
         q = Q[0]
     span = float(np.ptp(np.concatenate(pts), axis=0).max()) or 1.0
     axis_len = 0.08 * span
     robot_traces = _robot_traces(robot, q, axis_len)
     data = robot_traces + data                 # robot first: the animation frames replace traces 0..3
     if path is not None and len(path):
-        for k in idx:
-            name = f"{k}"
-            frames.append(go.Frame(name=name, data=_robot_traces(robot, Q[k], axis_len),
+        for k, qk in enumerate(anim):
+            name = f"{100 * k / (len(anim) - 1):.0f}" if len(anim) > 1 else "0"
+            frames.append(go.Frame(name=name, data=_robot_traces(robot, qk, axis_len),
                                    traces=list(range(len(robot_traces)))))
-            steps.append(dict(method="animate", label=str(k),
+            steps.append(dict(method="animate", label=name,
                               args=[[name], dict(mode="immediate", frame=dict(duration=0, redraw=True),
                                                  transition=dict(duration=0))]))
     fig = go.Figure(data=data, frames=frames)
@@ -113,7 +131,7 @@ def robot_view(robot: kin.Robot, q, *, cloud: np.ndarray | None = None, near_sin
     )
     if frames:
         fig.update_layout(
-            sliders=[dict(active=0, steps=steps, currentvalue=dict(prefix="waypoint "), pad=dict(t=30),
+            sliders=[dict(active=0, steps=steps, currentvalue=dict(prefix="along the path (%): "), pad=dict(t=30),
                           x=0.08, len=0.9)],
             updatemenus=[dict(type="buttons", showactive=False, x=0.0, y=0.0, xanchor="left", yanchor="top",
                               pad=dict(t=30),

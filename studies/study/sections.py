@@ -13,6 +13,7 @@ import numpy as np
 
 import kin
 from studies.cli.common import jsonable
+from studies.report.html import format_value
 from studies.study import kinematics as ks
 from studies.study.context import Study
 
@@ -28,7 +29,7 @@ def dh_table(s: Study, robot: kin.Robot, caption: str = "") -> None:
     for r in ks.dh_rows(c):
         unit = au if r["type"] == "revolute" else lu
         rows.append([r["joint"], r["type"], r["a"], r["alpha"], r["d"], r["theta"],
-                     f"{r['limits'][0]:.4g} … {r['limits'][1]:.4g} {unit}"])
+                     f"{format_value(r['limits'][0])} … {format_value(r['limits'][1])} {unit}"])
     s.table(["joint", "type", f"a ({lu})", f"α ({au})", f"d ({lu})", f"θ ({au})", "limits"], rows,
             caption or f"{c.convention.capitalize()} DH parameters of `{c.name}` ({c.title}); a revolute joint adds "
                        f"its variable to θ, a prismatic joint to d.")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 import kin
-from studies.report.view3d import MAX_ANIMATION_FRAMES, MAX_CLOUD_POINTS, frame_origins, robot_view
+from studies.report.view3d import MAX_ANIMATION_FRAMES, MAX_CLOUD_POINTS, densify, frame_origins, robot_view
 
 
 def _dh(a, alpha, d, theta):
@@ -50,7 +50,9 @@ def test_animation_follows_the_path():
     Q = np.linspace([0, -0.5, 0.3, 0, 0.8, 0], [0.6, 0.2, -0.4, 0.5, 1.2, 0.3], 200)
     fig = robot_view(robot, Q[0], path=Q)
     assert len(fig.frames) == MAX_ANIMATION_FRAMES
-    assert fig.frames[0].name == "0" and fig.frames[-1].name == "199"
+    assert fig.frames[0].name == "0" and fig.frames[-1].name == "100"
+    first = fig.frames[0].data[0]
+    np.testing.assert_allclose(np.c_[first.x, first.y, first.z], frame_origins(robot, Q[0]), atol=1e-12)
     links = fig.frames[-1].data[0]
     np.testing.assert_allclose(np.c_[links.x, links.y, links.z], frame_origins(robot, Q[-1]), atol=1e-12)
     [slider] = fig.layout.sliders
@@ -72,3 +74,22 @@ def test_cloud_is_subsampled_with_near_singular_in_red():
     big = rng.normal(size=(3 * MAX_CLOUD_POINTS, 3))
     fig = robot_view(robot, np.zeros(6), cloud=big, near_singular=np.zeros(len(big), bool))
     assert sum(len(t.x) for t in fig.data if t.name.split()[0] in ("workspace", "near-singular")) == MAX_CLOUD_POINTS
+
+
+def test_a_short_path_is_interpolated_through_its_waypoints():
+    Q = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 3.0]])          # arc lengths 0, 1, 4
+    D = densify(Q, 9)                                            # every 0.5 along the polyline
+    np.testing.assert_allclose(D[[0, 2, 8]], Q)
+    np.testing.assert_allclose(D[1], [0.5, 0.0])
+    np.testing.assert_allclose(np.linalg.norm(np.diff(D, axis=0), axis=1), 0.5)
+    robot = kin.load_robot("fanuc_m16ib20")
+    P = np.array([[0, -0.8, 0.7, 0.3, 0.8, 0], [0.3, -0.6, 0.1, 0, 0.9, 0.2], [0.5, -0.5, -1.6, -0.3, 0.9, 0.4]])
+    fig = robot_view(robot, P[0], path=P)
+    assert len(fig.frames) == MAX_ANIMATION_FRAMES
+    last = fig.frames[-1].data[0]
+    np.testing.assert_allclose(np.c_[last.x, last.y, last.z], frame_origins(robot, P[-1]), atol=1e-12)
+    tool = next(t for t in fig.data if t.name == "planned tool path")
+    assert len(tool.x) > 100                                     # the curve the tool takes, not chords
+    mid = densify(P, len(tool.x))[len(tool.x) // 2]
+    np.testing.assert_allclose([tool.x[len(tool.x) // 2], tool.y[len(tool.x) // 2], tool.z[len(tool.x) // 2]],
+                               robot.fk(mid)[:3, 3], atol=1e-12)
