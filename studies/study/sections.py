@@ -95,7 +95,8 @@ def windows_table(s: Study, robot: kin.Robot, windows, label: str, caption: str 
         unit = c.angle_unit if c.joints[j - 1].is_revolute else c.length_unit
         scale = c.variable_scale[j - 1]
         if w.is_interval:
-            where = " ∪ ".join(f"[{lo / scale:.4g}, {hi / scale:.4g}]" for lo, hi in w.intervals) + f" {unit}"
+            where = " ∪ ".join(f"[{format_value(lo / scale)}, {format_value(hi / scale)}]"
+                               for lo, hi in w.intervals) + f" {unit}"
             where = f"q{j} ∈ {where}"
         elif d.get("epsilon") is not None:
             where = f"|{w.expr}| ≤ {d['epsilon']:.3g}"
