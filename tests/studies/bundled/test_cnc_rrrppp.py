@@ -141,3 +141,9 @@ def test_report_holds_the_numbers_and_the_plots(run):
         assert (report.parent / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
         assert png in d["meta"]["files"]
     assert page.count("data:image/png;base64,") >= 3
+
+
+def test_report_renders_in_a_browser(run, report_browser):
+    from tests.studies.bundled.rendering import assert_report_renders
+    _, results, report, _ = run
+    assert_report_renders(report_browser, report, results)
