@@ -81,7 +81,7 @@ def study(s: Study, scratch: Path) -> None:
     grid_n = s.input("brute-force grid points per parameter", 20 if s.quick else 50)
     de_popsize = s.input("DE population size (per parameter)", 6 if s.quick else 8)
     de_maxiter = s.input("DE generations (at most)", 10 if s.quick else 40)
-    sweep_n = s.input("sweep grid points per parameter", 10 if s.quick else 20)
+    sweep_n = s.input("sweep grid points per parameter", 10 if s.quick else 30)
     workers = s.input("sweep worker processes (local executor)", 1 if s.quick else 2)
 
     robot = s.robot(TASK.parent / "robots" / "scara_design.toml")
@@ -217,7 +217,7 @@ def study(s: Study, scratch: Path) -> None:
         A1g, A2g = np.repeat(axis, len(axis)), np.tile(axis, len(axis))     # share.ravel()'s order
         flat = (share.ravel() >= 1) & (A1g + A2g <= cf.sum() + 1e-3)          # covering, ≤ 1 mm longer
         valley = [mm * A1g[flat].min(), mm * A1g[flat].max()] if flat.any() else [None, None]
-        s.text(f"In closed form the shortest design covering every target is A1 = {mm * cf[0]:.1f} mm, "
+        s.text(f"In closed form the shortest design covering every target is A1 = {mm * cf[0]:.2f} mm, "
                f"A2 = {mm * cf[1]:.2f} mm, **Σ(|a|+|d|) = {L_cf:.2f} mm** (to 0.01 mm); IPOPT's is "
                f"{num(L_ip - L_cf, '+.2f')} mm from it (its σ_min constraint carries a small margin), and the closed "
                f"form covers {int(cf_ip.sum())} of the {len(P)} targets at IPOPT's design.  On the "
@@ -267,7 +267,9 @@ def study(s: Study, scratch: Path) -> None:
                "between the sweep's grid points.")
         s.table(["A1 (mm)", "A2 (mm)", "Σ(|a|+|d|) (mm)", "coverage (%)", "GCI"],
                 [[q["A1_mm"], q["A2_mm"], q["length_mm"], 100 * q["coverage"], q["gci"]] for q in pareto],
-                caption="The Pareto front: no other design of the sweep is as short with as much coverage.")
+                caption="The Pareto front: no other design of the sweep is as short with as much coverage.  GCI: "
+                        "the mean inverse condition number 1/κ of the translational Jacobian over the covered "
+                        "targets.")
         png = plot_pareto(meta, srows, scratch / "pareto.png",
                           marks=[(f"IPOPT optimum ({L_ip:.1f} mm)", ip.objective, ip.verification.fraction)])
         s.image(png, "Coverage against structural length of every design of the sweep, the Pareto front in red, "
