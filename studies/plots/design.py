@@ -41,6 +41,7 @@ def plot_history(history: list[list[float]], path, label: str, title: str):
         ax.plot(np.arange(len(h)), h, label=f"start {i}")
     ax.set_xlabel("iteration")
     ax.set_ylabel(label)
+    ax.ticklabel_format(useOffset=False)
     ax.set_title(title)
     if len(history) <= 10:
         ax.legend(fontsize=8)

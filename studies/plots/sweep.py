@@ -16,9 +16,10 @@ def _done(rows: list[dict]) -> list[dict]:
             and r["metrics"].get("structural_length") is not None]
 
 
-def plot_pareto(meta: dict, rows: list[dict], path):
+def plot_pareto(meta: dict, rows: list[dict], path, marks=()):
     """Coverage (%) against structural length (m) of every done design; the Pareto front (shorter and
-    more coverage) joined by a line, refined designs marked."""
+    more coverage) joined by a line, refined designs marked.  ``marks``: further designs to show,
+    (label, structural length m, coverage 0..1) each (e.g. an optimiser's answer)."""
     done = _done(rows)
     fig = Figure(figsize=(6.4, 4.6))
     ax = fig.add_subplot(111)
@@ -33,8 +34,12 @@ def plot_pareto(meta: dict, rows: list[dict], path):
         o = np.argsort(L[front])
         ax.step(L[front][o], C[front][o], where="post", c="tab:red", lw=1.5, label="Pareto front")
         ax.scatter(L[front], C[front], s=30, facecolors="none", edgecolors="tab:red")
+    for (label, length, cov), marker, colour in zip(marks, "*^sPD", ("gold", "tab:green", "tab:purple", "tab:brown",
+                                                                    "tab:pink")):
+        ax.scatter([length], [100 * cov], marker=marker, s=140, c=colour, edgecolors="k", zorder=5, label=label)
     ax.set_xlabel("structural length Σ(|a|+|d|) (m)")
     ax.set_ylabel("coverage (%)")
+    ax.ticklabel_format(useOffset=False)
     ax.set_title(f"{meta['name']}: {len(done)} designs")
     ax.legend(loc="lower right", fontsize=8)
     return save_figure(fig, path)
@@ -66,5 +71,6 @@ def plot_heatmap(meta: dict, rows: list[dict], path):
             ax.legend(loc="upper right", fontsize=8)
     ax.set_xlabel(f"{p} ({meta['units'][p]})")
     ax.set_ylabel(f"{q} ({meta['units'][q]})")
+    ax.ticklabel_format(useOffset=False)
     ax.set_title(f"{meta['name']}: {meta['objective']} over {p}, {q}")
     return save_figure(fig, path)
