@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+import kin
 import studies
 from design.coverage import coverage
 from design.metrics import structural_length
@@ -29,10 +30,12 @@ from design.optimise.grid import grid_search
 from design.sweep import LocalExecutor, loads_sweep, read_sweep, run_sweep, write_csv
 from design.sweep.export import pareto_front
 from design.task import load_task
+from design.workspace import compute_workspace
 from studies.bundled import _scara_design_parts as parts
 from studies.plots.design import plot_history
 from studies.plots.sweep import plot_pareto
 from studies.report.html import format_value as num
+from studies.report.view3d import robot_view
 from studies.study import Study, main
 
 NAME = "scara_design"
@@ -83,6 +86,7 @@ def study(s: Study, scratch: Path) -> None:
     de_maxiter = s.input("DE generations (at most)", 10 if s.quick else 40)
     sweep_n = s.input("sweep grid points per parameter", 10 if s.quick else 30)
     workers = s.input("sweep worker processes (local executor)", 1 if s.quick else 2)
+    ws_samples = s.input("workspace samples of the optimised arm (3-D view)", 20_000 if s.quick else 100_000)
 
     robot = s.robot(TASK.parent / "robots" / "scara_design.toml")
     task = load_task(TASK, robot=robot)
@@ -172,6 +176,16 @@ def study(s: Study, scratch: Path) -> None:
                             "starts": len(ip.solver["starts"]), "best_start": ip.solver["best_start"],
                             "statuses": [st["status"] for st in ip.solver["starts"]],
                             "iterations": sum(st["iterations"] for st in ip.solver["starts"]), "time_s": ip.time_s}
+
+        # the optimised arm in 3-D: its sampled workspace, the task's targets, the arm half-folded
+        opt_robot = kin.Robot(c.with_parameters(ip.params))
+        ws_opt = compute_workspace(opt_robot, n_samples=ws_samples, seed=0)
+        q_view = np.clip([0.3, 1.2, 0.5 * (c.lower[2] + c.upper[2])], c.lower, c.upper)
+        s.view3d(robot_view(opt_robot, q_view, cloud=ws_opt.positions, near_singular=ws_opt.near_singular,
+                            targets=task.targets.positions),
+                 "optimum_3d", f"The optimised arm (A1 = {mm * p_ip[0]:.1f} mm, A2 = {mm * p_ip[1]:.1f} mm) with "
+                               f"{ws_opt.n_samples:,} sampled tool positions (near-singular in red) and the task's "
+                               "targets (green): drag to turn, scroll to zoom.")
 
     with s.section("Brute-force grid"):
         t0 = time.perf_counter()

@@ -72,10 +72,12 @@ def _robot_traces(robot: kin.Robot, q: np.ndarray, axis_len: float) -> list[dict
 
 
 def robot_view(robot: kin.Robot, q, *, cloud: np.ndarray | None = None, near_singular: np.ndarray | None = None,
-               path: np.ndarray | None = None, title: str = "", cloud_seed: int = 0):
+               path: np.ndarray | None = None, targets: np.ndarray | None = None, title: str = "",
+               cloud_seed: int = 0):
     """A plotly figure: the robot at ``q`` (SI joint values), optionally the workspace ``cloud``
     ((N, 3) tool positions in metres) with ``near_singular`` (N,) marked red, and a joint ``path``
-    ((M, n), SI) drawn as the tool's trace and animated with a slider over its waypoints."""
+    ((M, n), SI) drawn as the tool's trace and animated with a slider over its waypoints, and task
+    ``targets`` ((K, 3) tool positions in metres) as markers."""
     import plotly.graph_objects as go
 
     chain = robot.chain
@@ -97,6 +99,12 @@ def robot_view(robot: kin.Robot, q, *, cloud: np.ndarray | None = None, near_sin
         data.append(go.Scatter3d(x=C[near, 0], y=C[near, 1], z=C[near, 2], mode="markers",
                                  name=f"near-singular ({near.sum():,} drawn)", hoverinfo="skip",
                                  marker=dict(size=2.2, color="#d62728", opacity=0.6)))
+    if targets is not None:
+        P = np.asarray(targets, float).reshape(-1, 3) / s
+        pts.append(P)
+        data.append(go.Scatter3d(x=P[:, 0], y=P[:, 1], z=P[:, 2], mode="markers", name=f"task targets ({len(P)})",
+                                 marker=dict(size=4, color="#2ca02c", symbol="diamond"),
+                                 hovertemplate=f"%{{x:.4g}}, %{{y:.4g}}, %{{z:.4g}} {unit}<extra>target</extra>"))
     frames = []
     steps = []
     if path is not None and len(path):

@@ -116,7 +116,7 @@ def windows_table(s: Study, robot: kin.Robot, windows, label: str, caption: str 
 
 
 def workspace(s: Study, robot: kin.Robot, samples: int, seed: int = 0, title: str = "", name: str = "workspace",
-              q_view=None, path=None, **options):
+              q_view=None, path=None, targets=None, **options):
     """The sampled functional workspace: four views (PNG) and the interactive 3-D view; returns it."""
     from design.workspace import compute_workspace
 
@@ -132,7 +132,7 @@ def workspace(s: Study, robot: kin.Robot, samples: int, seed: int = 0, title: st
                    f"({ws.threshold_rule}).", name=name)
     q0 = np.zeros(robot.n) if q_view is None else np.asarray(q_view, float)
     q0 = np.clip(q0, robot.chain.lower, robot.chain.upper)
-    fig = robot_view(robot, q0, cloud=ws.positions, near_singular=ws.near_singular, path=path)
+    fig = robot_view(robot, q0, cloud=ws.positions, near_singular=ws.near_singular, path=path, targets=targets)
     s.view3d(fig, f"{name}_3d", "Interactive view: drag to turn, scroll to zoom, click a legend entry to hide it. "
                                 "The robot is drawn by its DH frames (x red, y green, z blue)"
                                 + ("; the slider moves it along the planned path." if path is not None else "."))

@@ -242,3 +242,9 @@ def test_report_holds_the_numbers_and_the_plots(run):
     for png in ("task.png", "optimum.png", "design_plane.png", "pareto.png", "ipopt_history.png"):
         assert png in files and (d / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", png
     assert {"sweep.sqlite", "sweep.csv"} <= files
+
+
+def test_report_renders_in_a_browser(run, report_browser):
+    from tests.studies.bundled.rendering import assert_report_renders
+    _, results, out_dir = run
+    assert_report_renders(report_browser, out_dir / "report.html", results)

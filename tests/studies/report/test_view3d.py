@@ -93,3 +93,11 @@ def test_a_short_path_is_interpolated_through_its_waypoints():
     mid = densify(P, len(tool.x))[len(tool.x) // 2]
     np.testing.assert_allclose([tool.x[len(tool.x) // 2], tool.y[len(tool.x) // 2], tool.z[len(tool.x) // 2]],
                                robot.fk(mid)[:3, 3], atol=1e-12)
+
+
+def test_targets_are_drawn_in_file_units():
+    robot = kin.load_robot("scara_rrp")                          # millimetres
+    T = np.array([[0.4, 0.1, -0.2], [0.3, -0.2, -0.15]])         # metres
+    fig = robot_view(robot, np.array([0.0, 0.5, -0.2]), targets=T)
+    tr = next(t for t in fig.data if t.name.startswith("task targets"))
+    np.testing.assert_allclose(np.c_[tr.x, tr.y, tr.z], 1000 * T)
