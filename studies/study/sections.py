@@ -141,15 +141,20 @@ def workspace(s: Study, robot: kin.Robot, samples: int, seed: int = 0, title: st
 
 
 def planned_path(s: Study, robot: kin.Robot, windows, start, goal, *, planner: str = "RRTConnect",
-                 time_limit: float = 2.0, seed: int = 0, objective: str = "none", key: str = "plan"):
-    """Plan start → goal (SI) around ``windows``, check it, and report it; returns the PlanResult."""
+                 time_limit: float = 2.0, seed: int = 0, objective: str = "none", key: str = "plan",
+                 sigma_min: float | None = None):
+    """Plan start → goal (SI) around ``windows`` (and above the σ_min floor ``sigma_min``, SI, when
+    given), check it, and report it; returns the PlanResult."""
     from planning.ompl.planner import plan
 
     c = robot.chain
     for k, v in (("planner", planner), ("time limit (s)", time_limit), ("seed", seed), ("objective", objective)):
         s.input(f"{key}: {k}", v)
+    if sigma_min is not None:
+        s.input(f"{key}: σ_min floor (SI)", sigma_min)
     start, goal = np.asarray(start, float), np.asarray(goal, float)
-    res = plan(robot, start, goal, windows, planner=planner, time_limit=time_limit, seed=seed, objective=objective)
+    res = plan(robot, start, goal, windows, planner=planner, time_limit=time_limit, seed=seed, objective=objective,
+               sigma_min=sigma_min)
     d = jsonable(res.to_dict())
     d["path"] = c.from_si(res.path).tolist() if res.success else []
     d["straight_line_length"] = float(np.linalg.norm(goal - start))
