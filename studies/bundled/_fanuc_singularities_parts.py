@@ -115,7 +115,7 @@ def plot_sigma_across_windows(robot, factors, window_sets: dict, trusted, thresh
                Line2D([], [], color=SOURCE_COLOURS["sigma_min"], linestyle=":", label=f"threshold σ_min = {threshold:g}")]
     handles += [Line2D([], [], color=SOURCE_COLOURS.get(label, "#555555"), label=f"window half-width: {SOURCE_NAMES.get(label, label)}")
                 for label in window_sets]
-    fig.legend(handles=handles, loc="outside lower center", ncol=3 + len(window_sets), fontsize=8)
+    fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize=8)
     return fig, out
 
 

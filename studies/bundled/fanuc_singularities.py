@@ -75,8 +75,8 @@ def run(s: Study) -> None:
                           [5_000, 20_000, 40_000, 80_000])
     train_seeds = s.input("learned windows: seeds compared", [0] if s.quick else [0, 1])
     n_sigma_check = s.input("σ_min window check: random configurations", 20_000 if s.quick else 200_000)
-    n_workspace = s.input("workspace: samples", 20_000 if s.quick else 200_000)
-    plan_time = s.input("plan: time limit (s)", 1.0 if s.quick else 2.0)
+    n_workspace = 20_000 if s.quick else 200_000        # workspace samples (sections.workspace records them)
+    plan_time = 1.0 if s.quick else 2.0                  # OMPL's time limit, s (sections.planned_path records it)
 
     # ------------------------------------------------------------------------------------------
     with s.section("The robot"):
@@ -245,8 +245,9 @@ def run(s: Study) -> None:
             check[label] = {"outside": int(outside.sum()),
                             "min_sigma_outside": float(sig_c[outside].min()) if outside.any() else None}
         kept = check["sigma_min"]["min_sigma_outside"] >= threshold
+        names = {"margin": f"margin ±{margin:g} rad", "sigma_min": f"σ_min ≥ {threshold:g}", "learned": "learned IK"}
         s.table(["windows", "random configurations outside them", "min σ_min there", f"≥ {threshold:g}?"],
-                [[label, c["outside"], c["min_sigma_outside"],
+                [[names[label], c["outside"], c["min_sigma_outside"],
                   None if c["min_sigma_outside"] is None else c["min_sigma_outside"] >= threshold]
                  for label, c in check.items()],
                 f"σ_min at {n_sigma_check:,} fresh random configurations (seed {seed + 7}) outside each source's "
@@ -300,8 +301,9 @@ def run(s: Study) -> None:
                f"({', '.join(f'{x:g}' for x in PLAN_GOAL)}) rad. Its straight joint-space line enters the {inside} "
                f"margin window ({max(entered.values())} of 2001 points on it), so a controller interpolating joints "
                "would take the arm that close to a singularity. The goal lies inside the σ_min "
-               f"{', '.join(goal_in_sigma) or '—'} window (a window on one joint must hold for every value of the "
-               "others), so the plan goes around the **margin windows** and keeps the dexterity requirement as a "
+               f"window{'s' if len(goal_in_sigma) > 1 else ''} of the {' and '.join(goal_in_sigma) or '—'} (its own "
+               f"σ_min is {robot.sigma_min(goal):.3g}, but a window must keep σ_min up for every value of the joints "
+               "it does not name), so the plan goes around the **margin windows** and keeps the dexterity requirement as a "
                f"**σ_min floor of {threshold:g}** checked along the path. OMPL's RRTConnect finds the path; rmtkit "
                "then proves, segment by segment, that no point of it is inside a window.")
         res = sections.planned_path(s, robot, w_margin, start, goal, time_limit=plan_time, seed=seed,
@@ -365,8 +367,8 @@ def run(s: Study) -> None:
         with tempfile.TemporaryDirectory(prefix="rmt-fig-") as tmp:
             p = Path(tmp) / "weld_seam.png"
             plot_toolpath_report(rep, robot, p, title="FANUC M-16iB/20: weld seam")
-            s.image(p, "The joints along the seam (windows shaded where they come near) and σ_min with the floor.",
-                    name="weld_seam")
+            s.image(p, "The joints along the seam and σ_min with its floor; a window is shaded where it comes within "
+                       "the plotted range of a joint.", name="weld_seam")
         s.view3d(robot_view(robot, q0, path=rep.q, title="Weld seam"), "weld_seam_3d",
                  "The arm over the seam; the slider moves it along the tool path.")
         s.results["weld_seam"] = {**d, "file": SEAM_FILE.name, "start_q": q0.tolist(), "branch": branch,
