@@ -347,6 +347,13 @@ def run(s: Study) -> None:
         q0 = rep.q[0]
         branch = {f.kind: float(f(q0[None])[0]) for f in factors}
         same_branch = all(np.all(np.sign(f(rep.q)) == np.sign(branch[f.kind])) for f in factors)
+        # the branch in words: the side of q5 = 0, the stretch of q3 between two elbow singularities, the
+        # side of joint 1's axis the wrist centre is on (the shoulder factor is > 0 at q = 0, reaching forward)
+        roots = [-math.inf, *[f for f in factors if f.kind == "elbow"][0].solutions["values"], math.inf]
+        k = next(i for i in range(len(roots) - 1) if roots[i] < q0[2] < roots[i + 1])
+        branch_text = (f"q5 {'>' if q0[4] > 0 else '<'} 0; q3 between the elbow singularities at {roots[k]:.4g} and "
+                       f"{roots[k + 1]:.4g} rad; the wrist centre on the "
+                       f"{'same side of joint 1’s axis as at q = 0' if branch['shoulder'] > 0 else 'far side of joint 1’s axis'}")
         s.text(f"An L-shaped fillet weld on a table in front of the robot: {rep.s[-1] * 1000:.0f} mm at 10 mm/s, the "
                "torch pointing down with a 15° push angle and turning with the seam at the corner. The tool path is "
                "followed with continuous inverse kinematics from the configuration below, and every waypoint is "
@@ -355,9 +362,8 @@ def run(s: Study) -> None:
         s.table(["q1 (rad)", "q2 (rad)", "q3 (rad)", "q4 (rad)", "q5 (rad)", "q6 (rad)", "wrist: sin q5",
                  "elbow factor", "shoulder factor (m)", "same signs all along"],
                 [[*q0.tolist(), branch["wrist"], branch["elbow"], branch["shoulder"], same_branch]],
-                "The IK branch at the first waypoint: the signs of the three singular factors (wrist not flipped, "
-                "upper arm raised with the forearm reaching down, wrist centre in front of joint 1) stay the same "
-                "along the seam.", fmt=".4g")
+                f"The IK branch at the first waypoint, given by the signs of the three singular factors: {branch_text}. "
+                f"{'They stay the same' if same_branch else 'They do **not** stay the same'} along the seam.", fmt=".4g")
         s.table(["waypoints", "length (m)", "duration (s)", "min σ_min", "min limit margin (rad)",
                  "max IK error (m)", "max joint speed (rad/s)", "in windows"],
                 [[d["waypoints"], d["length"], d["duration"], d["min_sigma"], min(d["min_limit_margin"]),
