@@ -194,3 +194,12 @@ def test_report_holds_the_key_numbers(run):
     assert f"{_windows(d, 'learned')['wrist']['width']:.3g}" in html
     for view in ("workspace_3d", "weld_seam_3d"):             # the two interactive views
         assert f'class="plot3d" data-name="{view}"' in html, view
+
+
+def test_report_renders_in_a_browser(run, report_browser):
+    from tests.studies.bundled.rendering import assert_report_renders
+    _, _, report, d = run
+    ws = _windows(d, "sigma_min")
+    assert_report_renders(report_browser, report, d,
+                          numbers=("(1.02, 0, 1.365) m", f"±{ws['wrist']['width']:.3g}",
+                                   f"VALID: all {d['weld_seam']['waypoints']} waypoints"))
