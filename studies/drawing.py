@@ -21,8 +21,14 @@ What the study finds (and reports as numbers):
   and the tip moving in a plane x = const, the wrist-centre condition keeps θ1 (hence θ5 = 0)
   constant.  So in pose mode and in pen-axis (5-DOF) mode the path itself forces the wrist window for
   all 5001 waypoints — the follower confirms it: at every step its probe finds no configuration
-  outside the window that meets the next target within the allowed slack of the tolerance.  Only
-  position mode (the pen may tilt) leaves the window, within the first second.
+  outside the window that meets the next target within the allowed slack of the tolerance.
+  :func:`wrist_branches` shows it from the path alone (closed form from the pen tip and axis): the
+  start branch has θ5 = 0 at every waypoint; the other shoulder solution (θ1 ≈ 150°) is not singular
+  but is not reachable while the pen stays on the drawing.  Only position mode (the pen may tilt)
+  leaves the window, within the first second.  Every method's result therefore carries, besides
+  "within tolerance", its waypoints inside a window, their share and whether the path forces them
+  (``forced_by_path``, ``verdict``) — "completes" alone would hide that the arm drew the whole figure
+  at a singularity.
 * The naive method q += J⁻¹·ẋ·Δt with the homework's Jacobian (joint axes z1…z6 instead of z0…z5)
   blows up.  With the correct Jacobian it does not: J is exactly singular at the start
   (``np.linalg.solve`` raises, the pseudo-inverse is used), then has a condition number ~1e19–1e20
@@ -43,11 +49,11 @@ from contextlib import contextmanager
 import numpy as np
 
 import kin
-from planning.follow import MODES, follow_path, resolved_rate
+from planning.follow import MODES, follow_path, resolved_rate, window_ranges
 from planning.windows import WindowSet, build_windows
 
 __all__ = ["PEN_D6", "START_Q", "pen_robot", "drawing_path", "homework_jacobian", "run_drawing_study",
-           "drawing_windows"]
+           "drawing_windows", "wrist_branches"]
 
 PEN_D6 = 0.1218                                           # m, the homework's pen
 START_Q = (0.0, 0.0, math.pi / 2, -math.pi / 2, 0.0, 0.0)  # rad, the singular start pose
@@ -121,6 +127,64 @@ def homework_jacobian(robot: kin.Robot):
         return J
 
     return jac
+
+
+def wrist_branches(robot: kin.Robot, poses: np.ndarray, margin: float, theta1_start: float = START_Q[0]) -> dict:
+    """Why the drawing forces the wrist window, in closed form from the path alone (no follower).
+
+    For the homework's arm (joints 2, 3, 4 with parallel axes, α2 = α3 = 0; α1, α4, α5 = ±π/2;
+    a1 = a5 = a6 = 0, identity base and tool) the pen tip p and the pen axis z (tool z) fix θ1 and
+    |sin θ5|: the wrist point w = p − d6·z lies at the distance D = d2 + d3 + d4 from the base along
+    joint 2's axis z1(θ1) = sin α1·(sin t, −cos t, 0), t = θ1 + θ1's offset — two solutions
+    t = ψ + asin(sin α1·D/r) and t = ψ + π − asin(sin α1·D/r) (ψ = atan2(w_y, w_x), r = |w_xy|) — and the pen
+    axis makes the angle θ5 with z1's plane: |z1 · z| = |cos θ5|.  So sin θ5 = 0 ⇔ the pen axis is
+    parallel to joint 2's axis.  The start branch is followed continuously from ``theta1_start``.
+
+    Returns per branch the θ1 range (rad), max |sin θ5|, and the waypoints with |sin θ5| ≤ sin(margin)
+    (inside a ±margin window around θ5 = 0 or π); this holds in pose and in pen-axis mode alike (only p
+    and z enter)."""
+    c = robot.chain
+    J = c.joints
+    tab = c.dh_table()                   # rows (a, alpha, d, theta offset), SI
+    ok = (c.n == 6 and c.convention == "standard" and c.base.is_identity and c.tool.is_identity
+          and all(j.is_revolute for j in J) and abs(tab[1, 1]) < 1e-12 and abs(tab[2, 1]) < 1e-12
+          and abs(tab[5, 1]) < 1e-12 and all(abs(abs(tab[i, 1]) - math.pi / 2) < 1e-12 for i in (0, 3, 4))
+          and all(abs(tab[i, 0]) < 1e-12 for i in (0, 4, 5)))
+    if not ok:
+        raise kin.ChainError(f"wrist_branches: {c.name} is not the homework arm's structure (6R, α2 = α3 = α6 = 0, "
+                             "α1, α4, α5 = ±π/2, a1 = a5 = a6 = 0, identity base and tool)")
+    s1, off1, d6, D = math.sin(tab[0, 1]), tab[0, 3], tab[5, 2], tab[1, 2] + tab[2, 2] + tab[3, 2]
+    z = poses[:, :3, 2]
+    w = poses[:, :3, 3] - d6 * z
+    psi, r = np.arctan2(w[:, 1], w[:, 0]), np.hypot(w[:, 0], w[:, 1])
+    a = np.arcsin(np.clip(s1 * D / r, -1.0, 1.0))
+    sols = np.stack([psi + a - off1, psi + math.pi - a - off1], axis=1)
+    sols = np.angle(np.exp(1j * sols))   # wrap to (−π, π]
+    # the start branch: the solution nearest the start's θ1, then nearest the previous waypoint's
+    pick = np.empty(len(poses), int)
+    prev = theta1_start
+    for k in range(len(poses)):
+        pick[k] = int(np.argmin(np.abs(np.angle(np.exp(1j * (sols[k] - prev))))))
+        prev = sols[k, pick[k]]
+    out: dict = {"margin_rad": float(margin), "waypoints": int(len(poses))}
+    for key, col in (("start_branch", pick), ("other_branch", 1 - pick)):
+        th1 = sols[np.arange(len(poses)), col]
+        z1 = s1 * np.stack([np.sin(th1 + off1), -np.cos(th1 + off1), np.zeros_like(th1)], axis=1)
+        sin5 = np.sqrt(np.clip(1.0 - np.einsum("ij,ij->i", z1, z) ** 2, 0.0, 1.0))
+        inside = sin5 <= math.sin(margin)
+        out[key] = {"theta1_rad": [float(th1.min()), float(th1.max())],
+                    "abs_sin_theta5": [float(sin5.min()), float(sin5.max())],
+                    "waypoints_in_window": int(inside.sum()), "share_in_window": float(inside.mean())}
+    sb = out["start_branch"]
+    out["forced"] = sb["share_in_window"] == 1.0
+    out["reason"] = (
+        f"sin θ5 = 0 exactly when the pen axis is parallel to joint 2's axis, and that axis turns with θ1 alone; "
+        f"the pen tip moves in a plane with the pen held along its normal, so the wrist point w = p − d6·z moves in "
+        f"a parallel plane and θ1 stays at {round(math.degrees(sb['theta1_rad'][0]), 6) + 0.0:g}° on the start branch, the pen axis "
+        f"parallel to joint 2's axis: θ5 = 0 at all {len(poses)} waypoints — the path itself lies on the wrist "
+        f"singular set" if out["forced"] and np.ptp(sb["theta1_rad"]) < 1e-9 else
+        f"on the start branch {sb['share_in_window']:.1%} of the waypoints have |sin θ5| ≤ sin {math.degrees(margin):g}°")
+    return out
 
 
 def drawing_windows(robot: kin.Robot, margin: float = math.radians(5.0)) -> WindowSet:
@@ -206,16 +270,28 @@ def run_drawing_study(robot: kin.Robot | None = None, windows: WindowSet | None 
                               "half_width": w.width,
                               **({"intervals": [list(iv) for iv in w.intervals]} if w.is_interval
                                  else {"epsilon": w.epsilon})} for i, w in enumerate(ws.windows)]}
+    wrist = next((w for w in ws.windows if w.kind == "wrist" and getattr(w, "is_interval", False)), None)
+    out["forced_by_path"] = wrist_branches(robot, poses, wrist.width if wrist is not None else window_margin)
+    names = [w.name for w in ws.windows]
     # the naive method, as the homework wrote it, and with the correct Jacobian
     naive_hw = resolved_rate(robot, (poses, times), q0, jacobian=homework_jacobian(robot))
     naive = resolved_rate(robot, (poses, times), q0)
+    sigma = {}
     for key, res, label in (("naive_homework", naive_hw, "homework Jacobian (axes z1…z6)"),
                             ("naive", naive, "correct Jacobian (axes z0…z5)")):
         d = res.summary()
         d["jacobian"] = label
+        d["task"] = "pose"
         d["within_tolerance"] = bool(res.max_tracking_error <= tolerance[0]
                                      and res.max_orientation_error <= tolerance[1])
         d["max_abs_q5_rad"] = float(np.nanmax(np.abs(res.q[:, 4])))
+        sigma[key] = np.full(len(res.q), np.nan)
+        finite = np.all(np.isfinite(res.q), axis=1)
+        sigma[key][finite] = robot.sigma_min(res.q[finite])
+        d["min_sigma"] = float(np.nanmin(sigma[key]))
+        in_w = ws.which(np.nan_to_num(res.q, nan=np.inf)) if ws.windows else np.full(len(res.q), -1)
+        d["windows_entered"] = window_ranges(in_w, names)
+        d.update(_window_share(in_w))
         out[key] = d
     qp = {}
     results = {}
@@ -223,11 +299,15 @@ def run_drawing_study(robot: kin.Robot | None = None, windows: WindowSet | None 
         fr = follow_path(robot, (poses, times), q0, ws, mode=m, tolerance=tolerance)
         results[m] = fr
         d = fr.summary()
+        d["task"] = m
         d["max_abs_q5_rad"] = float(np.abs(fr.q[:, 4]).max())
         d["max_abs_q1_rad"] = float(np.abs(fr.q[:, 0]).max())
         d["pen_tilt_max_rad"] = float(fr.axis_error.max())
+        d.update(_window_share(fr.in_window))
         qp[m] = d
     out["qp"] = qp
+    for d in (out["naive_homework"], out["naive"], *qp.values()):
+        d["forced_by_path"], d["verdict"] = _verdict(d, out)
     ref = "pose" if "pose" in qp else (modes[0] if modes else None)
     if ref is not None:
         p = qp[ref]["peak_joint_speed"]
@@ -241,13 +321,50 @@ def run_drawing_study(robot: kin.Robot | None = None, windows: WindowSet | None 
     if series:
         out["series"] = {"t": times, "segment": seg,
                          "naive_homework": {"q": naive_hw.q, "joint_speed": naive_hw.joint_speed,
-                                            "position_error": naive_hw.position_error},
+                                            "position_error": naive_hw.position_error,
+                                            "sigma_min": sigma["naive_homework"]},
                          "naive": {"q": naive.q, "joint_speed": naive.joint_speed,
-                                   "position_error": naive.position_error},
+                                   "position_error": naive.position_error, "sigma_min": sigma["naive"]},
                          **{f"qp_{m}": {"q": r.q, "joint_speed": r.joint_speed, "position_error": r.position_error,
                                         "orientation_error": r.orientation_error, "axis_error": r.axis_error,
-                                        "in_window": r.in_window} for m, r in results.items()}}
+                                        "in_window": r.in_window, "sigma_min": r.sigma_min}
+                            for m, r in results.items()}}
     return out
+
+
+def _window_share(in_window: np.ndarray) -> dict:
+    """Waypoints inside any window and their share of the path."""
+    inside = np.asarray(in_window) >= 0
+    return {"waypoints_in_window": int(inside.sum()), "share_in_window": float(inside.mean())}
+
+
+def _ranges_text(d: dict) -> str:
+    return "; ".join(", ".join(f"{a}–{b}" for a, b in w["ranges"]) for w in d["windows_entered"]) or "none"
+
+
+def _verdict(d: dict, out: dict) -> tuple[bool | None, str]:
+    """(forced by the path?, one plain line): tolerance met or not, and where the method was inside a
+    window — with whether the path forces it.  The drawing forces the wrist window only where the task
+    holds the pen axis (pose and pen-axis modes, and the naive method, which tracks the full pose) and
+    the closed form (:func:`wrist_branches`) puts every waypoint of the start branch in the window."""
+    tol = out["tolerance"]
+    n = out["path"]["waypoints"]
+    if not d["within_tolerance"]:
+        return None, (f"fails: tracking error up to {d['max_position_error_m']:.3g} m (tolerance "
+                      f"{tol['position_m'] * 1e3:g} mm); in a window at {d['waypoints_in_window']}/{n} waypoints")
+    held = d["task"] in ("pose", "axis")
+    forced = bool(held and out["forced_by_path"]["forced"])
+    done = "drawing within tolerance" + ("" if held else " (pen axis free)")
+    k = d["waypoints_in_window"]
+    if k == 0:
+        where = "never in a window"
+    elif k == n:
+        where = f"inside the wrist window at all {n} waypoints"
+    else:
+        where = f"in a window at {k}/{n} waypoints ({100 * k / n:.3g} %: {_ranges_text(d)})"
+    why = (" — forced by the path (θ5 = 0 at every waypoint)" if forced else
+           " — not forced (the pen may tilt)" if not held and k else "")
+    return forced, f"{done}; {where}{why}"
 
 
 def _explanation(out: dict) -> list[str]:
@@ -273,6 +390,19 @@ def _explanation(out: dict) -> list[str]:
             "the pen axis held and the tip in a plane x = const, θ1 and θ5 = 0 stay constant on the start branch, "
             "so every waypoint is singular; at every step the follower's probe found no configuration outside the "
             "window that meets the next target within 10 % of the tolerance.")
+    fb = out.get("forced_by_path")
+    if fb:
+        sb, ob = fb["start_branch"], fb["other_branch"]
+        lines.append(
+            f"The path alone says so, without any follower (closed form from the pen tip and the pen axis): "
+            f"{fb['reason']}. The start branch has "
+            + ("|sin θ5| < 1e-12" if sb["abs_sin_theta5"][1] < 1e-12 else f"|sin θ5| ≤ {sb['abs_sin_theta5'][1]:.2g}")
+            + f" and lies in the "
+            f"±{math.degrees(fb['margin_rad']):g}° wrist window at {sb['waypoints_in_window']}/{fb['waypoints']} "
+            f"waypoints. The arm's other shoulder solution (θ1 = {math.degrees(ob['theta1_rad'][0]):.0f}°…"
+            f"{math.degrees(ob['theta1_rad'][1]):.0f}°, |θ5| = {math.degrees(math.asin(ob['abs_sin_theta5'][0])):.0f}°…"
+            f"{math.degrees(math.asin(ob['abs_sin_theta5'][1])):.0f}°) is not singular, but it is another inverse-"
+            "kinematics solution with joint 1 turned that far: no motion that keeps the pen on the drawing reaches it.")
     if "position" in out.get("qp", {}):
         d = out["qp"]["position"]
         wr = d["windows_entered"]
@@ -284,7 +414,9 @@ def _explanation(out: dict) -> list[str]:
                      f"{out['tolerance']['orientation_deg']:g}° orientation tolerance, which is why pose (or pen-axis) "
                      "mode is the reference here.")
     nh, nv = out["naive_homework"], out["naive"]
-    done = ("completes the drawing" if nv["within_tolerance"] else "still fails the tolerance")
+    done = ("still fails the tolerance" if not nv["within_tolerance"] else
+            "completes the drawing" + (f" inside the wrist window at all {nv['waypoints_in_window']} waypoints, like "
+                                       "the follower in pose mode" if nv.get("forced_by_path") else ""))
     lines.append(f"The homework's naive method (J⁻¹ with axes z1…z6) reaches {nh['peak_joint_speed']:.3g} rad/s and a "
                  f"{nh['max_position_error_m']:.3g} m error. With the correct Jacobian the same method needs the "
                  f"pseudo-inverse at {nv['pinv_steps']} step(s) (J exactly singular, solve raises), then runs at "

@@ -48,16 +48,14 @@ def cmd_drawing(args, load_robot) -> int:
     print(f"{'method':<34} {'peak speed':>12} {'max pos err':>12} {'max orient':>11}  result")
     rows = [("naive, homework J (z1…z6)", res["naive_homework"]), ("naive, correct J (z0…z5)", res["naive"])]
     for name, d in rows:
-        ok = "completes" if d["within_tolerance"] else "fails"
-        note = f"{ok}; pinv at {d['pinv_steps']} step(s)"
         print(f"{name:<34} {d['peak_joint_speed']:>8.3g} r/s {d['max_position_error_m']:>10.3g} m "
-              f"{math.degrees(d['max_orientation_error_rad']):>9.3g}°  {note}")
+              f"{math.degrees(d['max_orientation_error_rad']):>9.3g}°  {d['verdict']}; pinv at {d['pinv_steps']} "
+              "step(s)")
     for m, d in res["qp"].items():
         orient = {"pose": d["max_orientation_error_rad"], "axis": d["max_axis_error_rad"]}.get(m, math.nan)
         o = f"{math.degrees(orient):>9.3g}°" if math.isfinite(orient) else f"{'(free)':>10}"
-        ok = "completes" if d["within_tolerance"] else "fails"
         print(f"{'QP follower, ' + m + ' mode':<34} {d['peak_joint_speed']:>8.3g} r/s {d['max_position_error_m']:>10.3g} m "
-              f"{o}  {ok}; forced steps {d['forced_steps']}; in windows: {_ranges(d)}")
+              f"{o}  {d['verdict']}; forced steps {d['forced_steps']}; in windows: {_ranges(d)}")
         if m == "position":
             print(f"{'':<34} pen tilt up to {math.degrees(d['pen_tilt_max_rad']):.3g}° (orientation not tracked)")
     c = res.get("comparison")
