@@ -55,6 +55,7 @@ def _style(n_drawn: int) -> tuple[float, float]:
 
 def plot_workspace(ws: Workspace, path: str | os.PathLike, title: str = "") -> Path:
     """Four-view PNG of a sampled workspace (top x–y, front x–z, side y–z, isometric); returns the path.
+    A planar workspace is drawn in one view of its plane (the others would show a line).
 
     At most :data:`MAX_DRAWN_POINTS` samples are drawn (uniform random subset with seed 0, stated in
     the caption); the legend gives the exact counts of all samples.  Axes are in the robot file's
@@ -75,6 +76,9 @@ def plot_workspace(ws: Workspace, path: str | os.PathLike, title: str = "") -> P
     unit = ws.length_unit
 
     lo, hi = ws.bbox_min / ws.length_scale, ws.bbox_max / ws.length_scale
+    if ws.dimension == 2:
+        fig = _plane_view(ws, Pd, Ps, (ms, alpha, ms_s, alpha_s), title)
+        return _finish(fig, ws, N, n_drawn, path)
     ext = hi - lo
     span = float(np.max(ext)) or 1.0
     pad = 0.05 * span
@@ -127,19 +131,56 @@ def plot_workspace(ws: Workspace, path: str | os.PathLike, title: str = "") -> P
     ax3.tick_params(labelsize=8, pad=1)
     ax3.set_title("Isometric view", fontsize=12)
 
+    lax = fig.add_subplot(gs[0, :])
+    lax.axis("off")
+    lax.legend(handles=_handles(ws), loc="center", ncol=2, fontsize=11, frameon=False, borderaxespad=0)
+    return _finish(fig, ws, N, n_drawn, path)
+
+
+def _plane_view(ws: Workspace, Pd: np.ndarray, Ps: np.ndarray, style: tuple, title: str) -> Figure:
+    """A planar workspace in one panel, its plane seen face on: views along the flat axis would be
+    lines, so they are not drawn."""
+    ms, alpha, ms_s, alpha_s = style
+    i, j = [k for k in range(3) if "xyz"[k] not in ws.degenerate_axes]
+    flat = [k for k in range(3) if k not in (i, j)][0]
+    level = 0.5 * (ws.bbox_min[flat] + ws.bbox_max[flat]) / ws.length_scale
+    fig = Figure(figsize=(9.0, 9.4), dpi=100, layout="constrained")
+    fig.suptitle(title or f"{ws.robot_name}: sampled workspace", fontsize=15)
+    gs = fig.add_gridspec(2, 1, height_ratios=[0.05, 1.0])
+    ax = fig.add_subplot(gs[1, 0])
+    ax.plot(Pd[:, i], Pd[:, j], linestyle="none", marker=".", markersize=ms, markeredgewidth=0,
+            color=DEXTEROUS_COLOUR, alpha=alpha, rasterized=True)
+    ax.plot(Ps[:, i], Ps[:, j], linestyle="none", marker=".", markersize=ms_s, markeredgewidth=0,
+            color=SINGULAR_COLOUR, alpha=alpha_s, rasterized=True)
+    ax.margins(0.05)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.ticklabel_format(useOffset=False)
+    unit = ws.length_unit
+    ax.set_xlabel(f"{'xyz'[i]} ({unit})", fontsize=11)
+    ax.set_ylabel(f"{'xyz'[j]} ({unit})", fontsize=11)
+    ax.set_title(f"The plane of motion ({'xyz'[i]}–{'xyz'[j]}, {'xyz'[flat]} = {level:.4g} {unit})", fontsize=12)
+    ax.grid(True, linewidth=0.5, alpha=0.4)
+    lax = fig.add_subplot(gs[0, 0])
+    lax.axis("off")
+    lax.legend(handles=_handles(ws), loc="center", ncol=1, fontsize=11, frameon=False, borderaxespad=0)
+    return fig
+
+
+def _handles(ws: Workspace) -> list[Line2D]:
+    """The legend: exact counts of dexterous and near-singular samples."""
     sym = _MEASURE_SYMBOL.get(ws.measure_name, ws.measure_name)
     thr = f"{ws.threshold:.3g}"
     pct = 100.0 * ws.near_singular_fraction
-    handles = [
+    return [
         Line2D([], [], linestyle="none", marker="o", markersize=8, color=DEXTEROUS_COLOUR,
                label=f"dexterous ({sym} ≥ {thr}): {ws.n_dexterous:,} samples"),
         Line2D([], [], linestyle="none", marker="o", markersize=8, color=SINGULAR_COLOUR,
                label=f"near-singular ({sym} < {thr}): {ws.n_near_singular:,} samples ({pct:.1f} %)"),
     ]
-    lax = fig.add_subplot(gs[0, :])
-    lax.axis("off")
-    lax.legend(handles=handles, loc="center", ncol=2, fontsize=11, frameon=False, borderaxespad=0)
 
+
+def _finish(fig: Figure, ws: Workspace, N: int, n_drawn: int, path) -> Path:
+    """The caption (sampling, threshold, size, reach) and the file."""
     drawn = (f"all {N:,} samples drawn" if n_drawn == N
              else f"{n_drawn:,} of {N:,} samples drawn (uniform random subset)")
     grid = f", {ws.points_per_joint} points per joint" if ws.points_per_joint else ""

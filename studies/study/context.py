@@ -127,8 +127,11 @@ class Study:
         """Add a matplotlib figure as ``NAME.png`` (written beside the report and embedded in it)."""
         from matplotlib.backends.backend_agg import FigureCanvasAgg
 
+        from studies.plots.figure import no_offsets
+
         fname = self._file_name(f"{name}.png")
         FigureCanvasAgg(fig)
+        no_offsets(fig)
         buf = io.BytesIO()
         fig.savefig(buf, format="png", dpi=dpi)
         self.files[fname] = buf.getvalue()
