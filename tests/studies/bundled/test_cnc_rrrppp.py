@@ -4,14 +4,12 @@ FK of both at every compared configuration, the constant rotation between them, 
 numpy geometric Jacobian, strict JSON and the report."""
 from __future__ import annotations
 
-import json
 import math
 
 import numpy as np
 import pytest
 
-import studies.bundled
-from studies.study import run_module
+from tests.studies.bundled.common import assert_report_renders, quick_run
 
 H = math.pi / 2
 # docs/machines.md §4: (a, α, d, θ) per joint; None marks the joint variable
@@ -20,11 +18,6 @@ ALPHA = [-H, H, -H, -H, -H, -H]
 D = [0.5, 0.5, 0.5, None, None, None]
 THETA = {"correct": [None, None, None, -H, H, -H], "slipped": [None, None, None, -90.0, 90.0, -90.0]}
 
-
-def _strict(text: str):
-    def bad(c):
-        raise AssertionError(f"non-strict JSON constant {c}")
-    return json.loads(text, parse_constant=bad)
 
 
 def _frames(q, model: str) -> list[np.ndarray]:
@@ -57,12 +50,10 @@ def _jacobian(q, model: str) -> np.ndarray:
 
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("cnc_rrrppp")
-    s, results, report = run_module(studies.bundled.load("cnc_rrrppp"), out, quick=True)
-    return s, results, report, _strict((report.parent / "results.json").read_text(encoding="utf-8"))
+    return quick_run("cnc_rrrppp", tmp_path_factory)
 
 
-def test_study_ran_ok_and_json_is_strict(run):
+def test_study_ran_ok_and_json_isstrict_json(run):
     s, results, _, d = run
     assert s.ok and d["ok"] is True and d == results
     assert d["quick"] is True and d["study"] == "cnc_rrrppp"
@@ -144,6 +135,5 @@ def test_report_holds_the_numbers_and_the_plots(run):
 
 
 def test_report_renders_in_a_browser(run, report_browser):
-    from tests.studies.bundled.rendering import assert_report_renders
     _, results, report, _ = run
     assert_report_renders(report_browser, report, results)

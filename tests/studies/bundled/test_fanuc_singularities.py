@@ -4,14 +4,12 @@ numpy's SVD), the closed forms of the three singular factors, the weld seam's ge
 and the report's contents."""
 from __future__ import annotations
 
-import json
 import math
 
 import numpy as np
 import pytest
 
-import studies.bundled
-from studies.study import run_module
+from tests.studies.bundled.common import assert_report_renders, quick_run
 from tests.dh_numpy import dh_standard
 
 #: docs/machines.md §3: rows (a, α, d) in m and rad, and the joint limits
@@ -27,17 +25,10 @@ START = [0.0, -0.8, 0.7, 0.3, 0.8, 0.0]
 GOAL = [0.5, -0.5, -1.6, -0.3, 0.9, 0.4]
 
 
-def _strict(text: str):
-    def bad(c):
-        raise AssertionError(f"non-strict JSON constant {c}")
-    return json.loads(text, parse_constant=bad)
-
 
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("fanuc_singularities")
-    s, results, report = run_module(studies.bundled.load("fanuc_singularities"), out, quick=True)
-    return s, results, report, _strict((report.parent / "results.json").read_text(encoding="utf-8"))
+    return quick_run("fanuc_singularities", tmp_path_factory)
 
 
 def _frames(q) -> list[np.ndarray]:
@@ -77,7 +68,7 @@ def _inside(windows: dict, Q: np.ndarray) -> np.ndarray:
     return inside | (np.abs(_shoulder(Q)) <= windows["shoulder"]["epsilon"])
 
 
-def test_study_ran_ok_and_json_is_strict(run):
+def test_study_ran_ok_and_json_isstrict_json(run):
     s, results, report, d = run
     assert s.ok and d["ok"] is True and d == results
     assert d["quick"] is True and d["study"] == "fanuc_singularities"
@@ -197,7 +188,6 @@ def test_report_holds_the_key_numbers(run):
 
 
 def test_report_renders_in_a_browser(run, report_browser):
-    from tests.studies.bundled.rendering import assert_report_renders
     _, _, report, d = run
     ws = _windows(d, "sigma_min")
     assert_report_renders(report_browser, report, d,

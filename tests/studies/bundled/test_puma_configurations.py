@@ -7,14 +7,12 @@ PPP rectangle's area; strict JSON, the report's numbers and figures."""
 from __future__ import annotations
 
 import itertools
-import json
 import math
 
 import numpy as np
 import pytest
 
-import studies.bundled
-from studies.study import run_module
+from tests.studies.bundled.common import assert_report_renders, quick_run
 
 THETA = (90.0, 30.0, 90.0, 60.0, 180.0)           # docs/machines.md §1, degrees
 ALPHA = (-90.0, 60.0, 90.0, 90.0, 0.0)
@@ -25,11 +23,6 @@ ARM = [(-math.pi / 2, 0.0, 0.0), (0.0, 0.4318, 0.14909), (math.pi / 2, -0.02032,
 D4 = 0.43307
 L = 0.4318
 
-
-def _strict(text: str):
-    def bad(c):
-        raise AssertionError(f"non-strict JSON constant {c}")
-    return json.loads(text, parse_constant=bad)
 
 
 def _A(theta, d, a, alpha):
@@ -69,12 +62,10 @@ def _arm_jacobian(types: str, Q: np.ndarray) -> np.ndarray:
 
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("puma_configurations")
-    s, results, report = run_module(studies.bundled.load("puma_configurations"), out, quick=True)
-    return s, results, report, _strict((report.parent / "results.json").read_text(encoding="utf-8"))
+    return quick_run("puma_configurations", tmp_path_factory)
 
 
-def test_study_ran_ok_and_json_is_strict(run):
+def test_study_ran_ok_and_json_isstrict_json(run):
     s, results, _, d = run
     assert s.ok and d["ok"] is True and d == results
     assert d["quick"] is True and d["study"] == "puma_configurations"
@@ -161,6 +152,5 @@ def test_report_holds_the_numbers_and_the_plots(run):
 
 
 def test_report_renders_in_a_browser(run, report_browser):
-    from tests.studies.bundled.rendering import assert_report_renders
     _, results, report, _ = run
     assert_report_renders(report_browser, report, results, numbers=("0.8660", "row sums"))

@@ -17,8 +17,7 @@ import sqlite3
 import numpy as np
 import pytest
 
-import studies.bundled
-from studies.study import run_module
+from tests.studies.bundled.common import assert_report_renders, quick_run
 
 # ------------------------------------------------------------------ the machine and the task, in mm
 LIM1, LIM2 = 2.22, 2.53            # |q1|, |q2| limits (rad)
@@ -81,8 +80,7 @@ def covered_count_vec(l1: np.ndarray, l2: np.ndarray) -> np.ndarray:
 
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("scara_design")
-    s, results, report = run_module(studies.bundled.load("scara_design"), out, quick=True)
+    s, results, report, _ = quick_run("scara_design", tmp_path_factory)
     return s, results, report.parent
 
 
@@ -245,6 +243,5 @@ def test_report_holds_the_numbers_and_the_plots(run):
 
 
 def test_report_renders_in_a_browser(run, report_browser):
-    from tests.studies.bundled.rendering import assert_report_renders
     _, results, out_dir = run
     assert_report_renders(report_browser, out_dir / "report.html", results)

@@ -3,31 +3,22 @@ and the closed form det Jv = 101250·sin θ2 of docs/machines.md §2, σ_min of 
 Jacobian at the window edges, the workspace's closed-form radii, strict JSON and the report."""
 from __future__ import annotations
 
-import json
 import math
 
 import numpy as np
 import pytest
 
-import studies.bundled
-from studies.study import run_module
+from tests.studies.bundled.common import assert_report_renders, quick_run
 
 A = 225.0            # every link's a (mm), docs/machines.md §2
 FOREARM = 2 * A      # a2 + a3: the prismatic joint's link carries the tool another 225 mm
 Q2_LIMIT = 2.53      # rad
 
 
-def _strict(text: str):
-    def bad(c):
-        raise AssertionError(f"non-strict JSON constant {c}")
-    return json.loads(text, parse_constant=bad)
-
 
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("scara_error_window")
-    s, results, report = run_module(studies.bundled.load("scara_error_window"), out, quick=True)
-    return s, results, report, _strict((report.parent / "results.json").read_text(encoding="utf-8"))
+    return quick_run("scara_error_window", tmp_path_factory)
 
 
 def _sigma_min_planar_m(q2: float) -> float:
@@ -38,7 +29,7 @@ def _sigma_min_planar_m(q2: float) -> float:
     return float(np.linalg.svd(J, compute_uv=False).min())
 
 
-def test_study_ran_ok_and_json_is_strict(run):
+def test_study_ran_ok_and_json_isstrict_json(run):
     s, results, _, d = run
     assert s.ok and d["ok"] is True and d == results
     assert d["quick"] is True and d["study"] == "scara_error_window"
@@ -121,6 +112,5 @@ def test_report_holds_the_numbers_and_the_plots(run):
 
 
 def test_report_renders_in_a_browser(run, report_browser):
-    from tests.studies.bundled.rendering import assert_report_renders
     _, results, report, _ = run
     assert_report_renders(report_browser, report, results)

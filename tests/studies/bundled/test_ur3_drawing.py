@@ -5,15 +5,13 @@ with its wrist point at x = d4), the forced-window statement with its share (all
 and pen-axis mode), the homework Jacobian's blow-up, strict JSON, the report's numbers and figures."""
 from __future__ import annotations
 
-import json
 import math
 
 import numpy as np
 import pytest
 
-import studies.bundled
 from studies.drawing import pen_robot, wrist_branches
-from studies.study import run_module
+from tests.studies.bundled.common import assert_report_renders, quick_run
 
 H = math.pi / 2
 # docs/machines.md §6, with the pen: rows (θ offset, α, a, d)
@@ -23,11 +21,6 @@ D4 = -0.0955
 START_TIP = (-0.2173, -0.3878, 1.03611)        # docs/machines.md §6
 N = 5001                                       # 5 segments × 1000 points + the start
 
-
-def _strict(text: str):
-    def bad(c):
-        raise AssertionError(f"non-strict JSON constant {c}")
-    return json.loads(text, parse_constant=bad)
 
 
 def _frames(q) -> list[np.ndarray]:
@@ -51,12 +44,10 @@ def _jacobian(q) -> np.ndarray:
 
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("ur3_drawing")
-    s, results, report = run_module(studies.bundled.load("ur3_drawing"), out, quick=True)
-    return s, results, report, _strict((report.parent / "results.json").read_text(encoding="utf-8"))
+    return quick_run("ur3_drawing", tmp_path_factory)
 
 
-def test_study_ran_ok_and_json_is_strict(run):
+def test_study_ran_ok_and_json_isstrict_json(run):
     s, results, _, d = run
     assert s.ok and d["ok"] is True and d == results
     assert d["quick"] is True and d["study"] == "ur3_drawing"
@@ -157,6 +148,5 @@ def test_report_holds_the_numbers_and_the_plots(run):
 
 
 def test_report_renders_in_a_browser(run, report_browser):
-    from tests.studies.bundled.rendering import assert_report_renders
     _, results, report, _ = run
     assert_report_renders(report_browser, report, results, numbers=(f"{N}/{N}", "forced by the path"))
