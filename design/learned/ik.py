@@ -85,6 +85,9 @@ from design.learned.branch import (
 __all__ = ["LearnedIKError", "LearnedIK", "Branch", "resolve_branch", "default_n_train", "pose_features",
            "DEFAULT_N_EVAL"]
 
+#: scikit-learn's MLP stochastic solvers catch Ctrl-C and only warn with this message.
+_SKLEARN_INTERRUPTED = "Training interrupted by user."
+
 #: The thesis's published learned-IK windows (docs/machines.md §2): robot → joint (1-based) and interval (rad).
 THESIS_WINDOWS: dict[str, dict[str, Any]] = {
     "scara_rrp": {"joint": 2, "interval": (-0.01, 0.01),
@@ -226,8 +229,12 @@ class LearnedIK(BaseEstimator):
         model = TransformedTargetRegressor(regressor=make_pipeline(StandardScaler(), mlp),
                                            transformer=StandardScaler(), check_inverse=False)
         with threadpool_limits(limits=BLAS_THREADS), warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always", ConvergenceWarning)
+            warnings.simplefilter("always")
             model.fit(X, Q)
+        # scikit-learn's stochastic solvers catch Ctrl-C, warn and return a half-trained network;
+        # a user who pressed Ctrl-C wants to stop, not a window from that network
+        if any(str(w.message) == _SKLEARN_INTERRUPTED for w in caught):
+            raise KeyboardInterrupt
         self.converged_ = not any(issubclass(w.category, ConvergenceWarning) for w in caught)
         self.fit_seconds_ = time.perf_counter() - t0
         self.model_ = model

@@ -283,3 +283,16 @@ def test_bad_estimator_settings_and_inputs(scara, fitted):
         learned_window(robot, analysis.factors[0], model=fitted, n_train=100)
     with pytest.raises(LearnedIKError, match="branch"):
         learned_window(robot, analysis.factors[0], model=fitted, branch={2: -1}, analysis=analysis)
+
+
+def test_ctrl_c_during_training_stops_instead_of_returning_a_half_trained_network(scara, monkeypatch):
+    # scikit-learn's adam/sgd loop catches KeyboardInterrupt and only warns; fit must re-raise it
+    from sklearn.neural_network import MLPRegressor
+
+    def interrupt(self, *args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(MLPRegressor, "_update_no_improvement_count", interrupt)
+    with pytest.raises(KeyboardInterrupt):
+        robot, analysis = scara
+        LearnedIK().fit(robot, n_samples=200, seed=0, analysis=analysis)
