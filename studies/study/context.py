@@ -76,9 +76,12 @@ class Study:
 
     # ----------------------------------------------------------------------------------- inputs
     def input(self, label: str, value: Any) -> Any:
-        """Record one input (shown in the report's Inputs table and ``meta.inputs``); returns ``value``."""
-        self.doc.inputs.append((label, value if isinstance(value, (int, float, str, bool)) or value is None
-                                else json.dumps(jsonable(value))))
+        """Record one input (shown in the report's Inputs table and ``meta.inputs``); returns ``value``.
+        The same label with the same value recorded again (a study and a shared section) is listed once."""
+        entry = (label, value if isinstance(value, (int, float, str, bool)) or value is None
+                 else json.dumps(jsonable(value)))
+        if entry not in self.doc.inputs:
+            self.doc.inputs.append(entry)
         return value
 
     def robot(self, name_or_path: str | Path) -> kin.Robot:

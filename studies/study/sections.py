@@ -62,7 +62,8 @@ def configurations_table(s: Study, robot: kin.Robot, configs: list[tuple[str, li
     if expected is not None:
         header.append(f"|p − reference| ({lu})")
     s.table(header, rows, "Tool position by forward kinematics; σ_min and manipulability of the task Jacobian "
-                          "(SI rows) — 0 means singular.", fmt=".5g")
+                          f"in the robot file's units ({lu}/s and {c.angle_unit}/s per unit/s of each joint) "
+                          "— 0 means singular.", fmt=".5g")
     s.results["configurations"] = jsonable(out)
     return out
 

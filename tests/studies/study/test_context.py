@@ -115,3 +115,16 @@ def test_a_copied_study_runs_as_a_script(tmp_path, capsys):
     d = _strict((tmp_path / "my_study" / "results.json").read_text())
     assert d["quick"] is True
     assert "My study." in (tmp_path / "my_study" / "report.html").read_text()
+
+
+def test_an_input_recorded_twice_is_listed_once(tmp_path):
+    def run(s):
+        s.input("workspace: samples", 20_000)      # the study records it …
+        s.input("workspace: samples", 20_000)      # … and so does a shared section
+        s.input("workspace: seed", 0)
+        with s.section("x"):
+            s.text("nothing")
+    s, d = run_study_function(run, "i", "I", tmp_path / "i")
+    page = (tmp_path / "i" / "report.html").read_text()
+    assert page.count("workspace: samples") == 1 and page.count("workspace: seed") == 1
+    assert d["meta"]["inputs"] == {"workspace: samples": 20_000, "workspace: seed": 0}
