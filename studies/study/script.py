@@ -15,6 +15,7 @@ import sys
 from pathlib import Path
 from types import ModuleType
 
+import kin
 from studies.study.context import Study, run_study_function
 
 __all__ = ["run_module", "main", "terminal_summary"]
@@ -46,10 +47,23 @@ def terminal_summary(s: Study, report: Path) -> str:
 
 
 def main(module: ModuleType, argv: list[str] | None = None) -> int:
-    """Command line of a study script: ``[--quick] [--out DIR] [--quiet]``; exit 0, or 1 when a
-    finding failed."""
+    """Command line of a study script: ``[--quick] [--out DIR] [--quiet]``; exit 0, 1 when a finding
+    failed, 2 on an error in the study's inputs or output directory (one line, as ``rmt study``
+    prints it), 130 on Ctrl-C."""
     _check_module(module)
-    ap = argparse.ArgumentParser(prog=Path(sys.argv[0]).name, description=module.TITLE)
+    prog = Path(sys.argv[0]).name
+    try:
+        return _main(module, prog, argv)
+    except kin.RmtError as e:       # e.g. a changed start or goal inside a window, a foreign file in OUT/NAME
+        print(f"{prog}: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"{prog}: interrupted", file=sys.stderr)
+        return 130
+
+
+def _main(module: ModuleType, prog: str, argv: list[str] | None) -> int:
+    ap = argparse.ArgumentParser(prog=prog, description=module.TITLE)
     ap.add_argument("--quick", action="store_true", help="the reduced study (fewer samples, shorter budgets)")
     ap.add_argument("--out", default="out", help="output directory; the run goes to OUT/NAME (default: out)")
     ap.add_argument("--quiet", action="store_true", help="print nothing but errors")

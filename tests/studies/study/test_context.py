@@ -12,6 +12,7 @@ import pytest
 from matplotlib.figure import Figure
 
 from kin.output import OutputError
+from planning.errors import PlanningError
 from studies.study import Study, main, run_study_function
 
 
@@ -128,3 +129,31 @@ def test_an_input_recorded_twice_is_listed_once(tmp_path):
     page = (tmp_path / "i" / "report.html").read_text()
     assert page.count("workspace: samples") == 1 and page.count("workspace: seed") == 1
     assert d["meta"]["inputs"] == {"workspace: samples": 20_000, "workspace: seed": 0}
+
+
+@pytest.mark.parametrize("raised, code, line", [
+    (PlanningError("goal configuration is invalid: inside the singular window 'wrist'"), 2,
+     "error: goal configuration is invalid: inside the singular window 'wrist'"),
+    (KeyboardInterrupt(), 130, "interrupted"),
+])
+def test_a_study_script_reports_an_error_in_one_line(tmp_path, capsys, raised, code, line):
+    def run(s):
+        with s.section("x"):
+            raise raised
+    mod = types.ModuleType("my_study")
+    mod.NAME, mod.TITLE, mod.run = "my_study", "My study", run
+    assert main(mod, ["--out", str(tmp_path)]) == code
+    err = capsys.readouterr().err
+    assert err.splitlines()[-1].endswith(line) and "Traceback" not in err
+    assert list(tmp_path.iterdir()) == []            # no partial run directory
+
+
+def test_a_study_script_refuses_foreign_files_in_one_line(tmp_path, capsys):
+    (tmp_path / "my_study").mkdir()
+    (tmp_path / "my_study" / "notes.txt").write_text("mine")
+    mod = types.ModuleType("my_study")
+    mod.NAME, mod.TITLE, mod.run = "my_study", "My study", _study
+    assert main(mod, ["--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert "notes.txt" in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert (tmp_path / "my_study" / "notes.txt").read_text() == "mine"
