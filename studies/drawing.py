@@ -420,11 +420,11 @@ def _explanation(out: dict) -> list[str]:
                      "mode is the reference here.")
     nh, nv = out["naive_homework"], out["naive"]
     done = ("still fails the tolerance" if not nv["within_tolerance"] else
-            "completes the drawing" + (f" inside the wrist window at all {nv['waypoints_in_window']} waypoints, like "
+            "draws within tolerance" + (f" inside the wrist window at all {nv['waypoints_in_window']} waypoints, like "
                                        "the follower in pose mode" if nv.get("forced_by_path") else ""))
     lines.append(f"The homework's naive method (J⁻¹ with axes z1…z6) reaches {nh['peak_joint_speed']:.3g} rad/s and a "
                  f"{nh['max_position_error_m']:.3g} m error. With the correct Jacobian the same method needs the "
-                 f"pseudo-inverse at {nv['pinv_steps']} step(s) (J exactly singular, solve raises), then runs at "
+                 f"pseudo-inverse at {nv['pinv_steps']} step(s) (where J is exactly singular and has no inverse), then runs at "
                  f"condition numbers up to {nv['max_finite_condition']:.3g} and {done} "
                  f"({nv['max_position_error_m']:.3g} m open-loop drift, peak {nv['peak_joint_speed']:.3g} rad/s): the "
                  "desired twist lies in the range of J and never asks for the lost direction.")

@@ -144,7 +144,7 @@ def run(s: Study) -> None:
         s.text("Why the singularity survives: the linear axes move the tool without turning it, so det J splits "
                "into the rotary block W (joints 1–3 only, det W ∝ sin θ2) and the linear block Z (the three axis "
                "directions, a constant of the machine). The slip changes only the fixed angles of joints 4–6, so it "
-               f"changes det Z — from 1 (orthogonal axes) to sin 90 = {np.sin(SLIP[5]):.4f} (skewed axes) — and "
+               f"changes det Z — from 1 (orthogonal axes) to sin(90 rad) = {np.sin(SLIP[5]):.4f} (skewed axes) — and "
                "leaves W, and with it the singularity θ2 = 0, untouched.")
         s.figure(det_across_q2({"correct": Q[:2000, 1], "slipped": Q[:2000, 1]},
                                {"correct": det[:2000], "slipped": det_s[:2000]},
