@@ -52,6 +52,8 @@ MEASURES = {
 DEFAULT_RELATIVE_THRESHOLD = 0.05
 #: Default voxel: the longest side of the cloud's bounding box divided by this number.
 DEFAULT_VOXELS_ALONG_LONGEST = 64
+#: the voxel count has converged when every other sample already occupies this share of the voxels
+CONVERGED_HALF_RATIO = 0.95
 #: An axis of the bounding box shorter than this (m) is degenerate (planar or linear workspace).
 DEGENERATE_EXTENT = 1e-9
 CHUNK = 1 << 16   # rows per evaluation call: T is kept per chunk only, J is never formed in Python
@@ -187,6 +189,8 @@ class Workspace:
     degenerate_axes: tuple[str, ...]
     occupied: int  # occupied voxels (pixels when dimension == 2)
     functional_occupied: int
+    #: voxels occupied by every other sample: the convergence check of the count (see ``converged``)
+    occupied_half: int
     volume: float  # occupied · voxel³ (m³); 0 when dimension < 3
     functional_volume: float
     area: float | None  # occupied · voxel² (m²) when dimension == 2; 0 when < 2; None in 3-D
@@ -196,6 +200,17 @@ class Workspace:
     reach: float  # max distance of a position from the base origin, m
     radial_reach: float  # max distance from the base z axis (the first joint axis in std DH), m
     elapsed: float  # seconds: sampling, evaluation and voxelisation
+
+    @property
+    def half_ratio(self) -> float:
+        """Occupied voxels of every other sample ÷ those of all samples (1 when the count has converged)."""
+        return self.occupied_half / self.occupied if self.occupied else 1.0
+
+    @property
+    def converged(self) -> bool:
+        """Whether half the samples already fill ≥ 95 % of the voxels.  When not, the volume (area)
+        is a lower bound that grows with the sample count: sample more, or give a larger ``voxel``."""
+        return self.half_ratio >= CONVERGED_HALF_RATIO
 
     @property
     def n_dexterous(self) -> int:
@@ -222,7 +237,8 @@ class Workspace:
                        "dexterous": self.n_dexterous, "near_singular_fraction": self.near_singular_fraction},
             "voxel": {"size": f(self.voxel), "rule": self.voxel_rule, "dimension": self.dimension,
                       "degenerate_axes": list(self.degenerate_axes), "occupied": self.occupied,
-                      "functional_occupied": self.functional_occupied},
+                      "functional_occupied": self.functional_occupied, "occupied_half": self.occupied_half,
+                      "half_ratio": self.half_ratio, "converged": self.converged},
             "volume": f(self.volume), "functional_volume": f(self.functional_volume),
             "area": f(self.area), "functional_area": f(self.functional_area),
             "bbox": {"min": [float(x) for x in self.bbox_min], "max": [float(x) for x in self.bbox_max]},
@@ -326,6 +342,7 @@ def compute_workspace(robot: kin.Robot | str, n_samples: int = 100_000,
                              f"({cells:.3g} cells; at most 2^62); allowed: voxel >= {ext.max() / 2e6:.3g} m")
     occ = voxel_occupancy(P, voxel, lo, axes).size
     focc = voxel_occupancy(P[~near], voxel, lo, axes).size
+    occ_half = voxel_occupancy(P[::2], voxel, lo, axes).size
 
     base = robot.chain.base.matrix
     d = P - base[:3, 3]
@@ -347,6 +364,6 @@ def compute_workspace(robot: kin.Robot | str, n_samples: int = 100_000,
         positions=P, measure_name=measure, measure=M, threshold=float(threshold), threshold_rule=rule,
         near_singular=near, n_near_singular=int(near.sum()), voxel=float(voxel), voxel_rule=vrule,
         dimension=dim, degenerate_axes=tuple("xyz"[i] for i in range(3) if i not in axes),
-        occupied=int(occ), functional_occupied=int(focc), volume=float(volume), functional_volume=float(fvolume),
+        occupied=int(occ), functional_occupied=int(focc), occupied_half=int(occ_half), volume=float(volume), functional_volume=float(fvolume),
         area=None if area is None else float(area), functional_area=None if farea is None else float(farea),
         bbox_min=lo, bbox_max=hi, reach=reach, radial_reach=radial, elapsed=time.perf_counter() - t0)

@@ -183,8 +183,9 @@ def run(s: Study) -> None:
         for k, f in enumerate(factors):
             wm, ws, wl = w_margin.windows[k], w_sigma.windows[k], by_kind.get(f.kind)
             shares = [float(np.mean(w.contains(probe))) * 100 if w is not None else None for w in (wm, ws, wl)]
-            thesis = ("published for q5 only; docs/machines.md gives no width — the learned column is its method "
-                      "reproduced" if f.kind == "wrist" else "not found")
+            thesis = ("the only singularity it found, so its method could give a q5 window only; docs/machines.md "
+                      "records no width — the learned column is the method reproduced" if f.kind == "wrist"
+                      else "not found")
             rows.append([f.kind, f"`{f.expr}` = 0", wm.width, ws.width, None if wl is None else wl.width,
                          *shares, thesis])
             comparison[f.kind] = {"margin": wm.width, "sigma_min": ws.width, "learned": None if wl is None else wl.width,
@@ -284,8 +285,8 @@ def run(s: Study) -> None:
                "space. The width is the network's largest joint error at singular poses, which is about its error "
                "anywhere on its branch (compare the held-out error column); other training poses, another seed or "
                "another network give another width, and none of it says how much dexterity the arm has left. The "
-               "thesis published such a window for q5 only; docs/machines.md records no width for it, so none is "
-               "quoted here.")
+               "thesis found only the wrist singularity, so its method could give a q5 window only; "
+               "docs/machines.md records no width for it, so none is quoted here.")
         wtxt = ", ".join(f"{f.kind} ±{w_sigma.windows[k].width:.3g}" for k, f in enumerate(factors))
         s.finding(f"σ_min ≥ {threshold:g} windows: {wtxt} rad (margin ±{margin:g}; learned IK ±{wl_w:.3g} rad at the "
                   f"wrist); outside them σ_min ≥ {cs['min_sigma_outside']:.3g} on {cs['outside']:,} samples", ok=kept)

@@ -194,6 +194,9 @@ def _finish(fig: Figure, ws: Workspace, N: int, n_drawn: int, path) -> Path:
                 f" (pixel {_fmt_length(ws.voxel, ws)}: {ws.occupied:,} occupied)")
     else:
         size = f"Degenerate workspace ({ws.dimension}-D): no area or volume"
+    if ws.dimension >= 2 and not ws.converged:
+        size += (f" — not converged: half the samples fill {100 * ws.half_ratio:.0f} % of these cells, so the "
+                 f"{'volume' if ws.dimension == 3 else 'area'} is a lower bound; sample more")
     caption = "\n".join([
         f"{N:,} samples: {sampling}; {drawn}.",
         f"Near-singular threshold: {ws.threshold_rule}.",

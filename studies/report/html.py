@@ -45,11 +45,23 @@ details summary { cursor: pointer; color: var(--accent); }
 """
 
 
+def _minus(t: str) -> str:
+    """A hyphen that is a minus sign (before a digit, not inside a word or a date; in an exponent)
+    becomes the true minus sign "−" that the report's numbers use."""
+    t = re.sub(r"(?<=\d)e-(?=\d)", "e−", t)
+    return re.sub(r"(?<![\w.−])-(?=\.?\d)", "−", t)
+
+
 def _inline(text: str) -> str:
-    """Escaped text with ``code`` and **bold**."""
-    t = html.escape(text, quote=False)
-    t = re.sub(r"`([^`]+)`", r"<code>\1</code>", t)
-    return re.sub(r"\*\*([^*]+)\*\*", r"<strong>\1</strong>", t)
+    """Escaped text with ``code`` and **bold**; minus signs outside code made true minus signs."""
+    parts = html.escape(text, quote=False).split("`")
+    out = []
+    for k, part in enumerate(parts):
+        if k % 2 == 1 and k < len(parts) - 1:           # inside a closed `code` span: verbatim
+            out.append(f"<code>{part}</code>")
+        else:
+            out.append(_minus(part) if k % 2 == 0 else "`" + _minus(part))
+    return re.sub(r"\*\*([^*]+)\*\*", r"<strong>\1</strong>", "".join(out))
 
 
 def format_value(v, fmt: str = ".4g") -> str:

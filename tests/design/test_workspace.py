@@ -290,3 +290,18 @@ def test_plot_workspace_writes_png(tmp_path, name):
     assert data[:8] == b"\x89PNG\r\n\x1a\n"
     assert len(data) > 10_000
     assert [p.name for p in out.parent.iterdir()] == [out.name]   # no temporary file left behind
+
+
+def test_volume_convergence_is_reported():
+    # the planar 2R annulus (r from |l1 − l2| to l1 + l2): with few samples most pixels are empty
+    # and the area is a lower bound; with many it converges to the closed form
+    robot = kin.load_robot("planar_2r")
+    few = compute_workspace(robot, n_samples=2000, seed=0)
+    many = compute_workspace(robot, n_samples=400_000, seed=0)
+    assert not few.converged and few.half_ratio < 0.95
+    assert many.converged and many.to_dict()["voxel"]["converged"] is True
+    assert few.area < many.area
+    # the half count is the count of every other sample, recomputed here
+    from design.workspace import voxel_occupancy
+    axes = tuple(i for i in range(3) if "xyz"[i] not in few.degenerate_axes)
+    assert few.occupied_half == voxel_occupancy(few.positions[::2], few.voxel, few.bbox_min, axes).size

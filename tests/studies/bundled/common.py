@@ -27,8 +27,9 @@ def quick_run(name: str, tmp_path_factory):
 
 
 def _plain(text: str) -> str:
-    """A finding as the page shows it: the inline markup gone, whitespace collapsed."""
-    return re.sub(r"\s+", " ", text.replace("**", "").replace("`", "")).strip()
+    """A finding as the page shows it: the inline markup gone, whitespace collapsed, minus signs as
+    hyphens (the page prints "−" where results.json's text has "-")."""
+    return re.sub(r"\s+", " ", text.replace("**", "").replace("`", "").replace("−", "-")).strip()
 
 
 def assert_report_renders(report_browser, report: Path, results: dict, numbers: tuple[str, ...] = ()) -> None:
@@ -38,9 +39,9 @@ def assert_report_renders(report_browser, report: Path, results: dict, numbers: 
     assert len(c.images) == len(pngs) and pngs, (len(c.images), pngs)
     assert all(i.loaded and i.width > 0 for i in c.images)
     assert c.graphs and all(g.drew for g in c.graphs), [g.detail for g in c.graphs]
-    text = re.sub(r"\s+", " ", c.text)
+    text = re.sub(r"\s+", " ", c.text).replace("−", "-")
     for f in results["findings"]:
         assert _plain(f["text"]) in text, f["text"]
     for n in numbers:
-        assert n in text, n
+        assert n.replace("−", "-") in text, n
     assert results["title"] in c.title

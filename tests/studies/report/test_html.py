@@ -66,3 +66,13 @@ def test_no_network_references_outside_plotly():
     import plotly.offline
     rest = page.replace(plotly.offline.get_plotlyjs(), "")
     assert not re.search(r'(src|href)="(https?:)?//', rest)
+
+
+@pytest.mark.parametrize("text, shown", [
+    ("deviation 2e-16 m", "deviation 2e−16 m"), ("q = (0, -0.8)", "q = (0, −0.8)"), ("[-0.05, 0.05]", "[−0.05, 0.05]"),
+    ("L-shaped, learned-IK", "L-shaped, learned-IK"), ("2026-11-23", "2026-11-23"), ("q1-3", "q1-3"),
+    ("`q-1 -2` and -3", "<code>q-1 -2</code> and −3"),
+])
+def test_minus_signs_outside_code(text, shown):
+    from studies.report.html import _inline
+    assert _inline(text) == shown
