@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from design.learned.windows import jsonable_report, learned_windows
+from planning.errors import PlanningError
 from planning.toolpath import load_toolpath, validate_toolpath
 from planning.windows import build_windows
 from studies.bundled._fanuc_singularities_parts import dh_frames, dh_jacobian, plot_plan, plot_sigma_across_windows
@@ -307,12 +308,16 @@ def run(s: Study) -> None:
                "it does not name), so the plan goes around the **margin windows** and keeps the dexterity requirement as a "
                f"**σ_min floor of {threshold:g}** checked along the path. OMPL's RRTConnect finds the path; rmtkit "
                "then proves, segment by segment, that no point of it is inside a window.")
-        res = sections.planned_path(s, robot, w_margin, start, goal, time_limit=plan_time, seed=seed,
-                                    sigma_min=threshold)
+        try:
+            res = sections.planned_path(s, robot, w_margin, start, goal, time_limit=plan_time, seed=seed,
+                                        sigma_min=threshold)
+        except PlanningError as e:      # e.g. a wider margin puts the start or goal inside a window
+            res = None
+            s.text(f"**No plan**: {e}. Choose a start and goal outside every window (or a narrower margin).")
         s.results["straight_line"] = {"points": 2001, "inside_margin_windows": entered,
                                       "min_sigma": float(robot.sigma_min(line).min()),
                                       "goal_inside_sigma_windows": goal_in_sigma}
-        if res.success:
+        if res is not None and res.success:
             s.figure(plot_plan(robot, w_margin, res.path, threshold), "plan",
                      "The planned path (solid) and the straight line (dashed) against the fraction of each one's "
                      "joint-space length: joint values with the windows near them shaded, the shoulder factor |g| "
@@ -322,12 +327,14 @@ def run(s: Study) -> None:
                       f"min σ_min {res.min_sigma:.3g}; the straight line is "
                       f"{'valid' if res.straight_line_valid else 'not valid (it enters the ' + inside + ' window)'}",
                       ok=res.proven and not res.straight_line_valid)
+        elif res is None:
+            s.finding("the move could not be planned: its start or goal is inside a window", ok=False)
         else:
             s.finding(f"the planner found no path ({res.status})", ok=False)
 
     # ------------------------------------------------------------------------------------------
     with s.section("The functional workspace"):
-        path = res.path if res.success else None
+        path = res.path if res is not None and res.success else None
         # red: below the dexterity requirement of the σ_min windows
         ws = sections.workspace(s, robot, n_workspace, seed, q_view=start, path=path, threshold=threshold)
         s.text(f"Reach {ws.reach:.3g} m from the base origin; {100 * ws.near_singular_fraction:.1f} % of the samples "
