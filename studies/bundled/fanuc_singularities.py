@@ -175,6 +175,7 @@ def run(s: Study) -> None:
                "being its largest joint error there.")
         w_margin = build_windows(robot, margin=margin, analysis=analysis, seed=seed)
         w_sigma = build_windows(robot, sigma_min=threshold, analysis=analysis, seed=seed)
+        s.say(f"training the learned IK on {n_train:,} poses")
         w_learned, reports = learned_windows(robot, analysis=analysis, seed=seed, n_train=n_train)
         by_kind = {w.kind: w for w in w_learned.windows}
         sets = {"margin": w_margin, "sigma_min": w_sigma, "learned": w_learned}
@@ -227,6 +228,8 @@ def run(s: Study) -> None:
         runs = []
         for n_tr in train_sizes:
             for sd in train_seeds:
+                if not (n_tr == n_train and sd == seed):
+                    s.say(f"training run: {n_tr:,} poses, seed {sd}")
                 reps = reports if (n_tr == n_train and sd == seed) else \
                     learned_windows(robot, analysis=analysis, seed=sd, n_train=n_tr)[1]
                 runs.append({"n_train": n_tr, "seed": sd, "heldout_r2": reps[0].get("heldout_r2"),

@@ -100,6 +100,7 @@ def run(s: Study) -> None:
         w_thesis = 0.5 * (thesis[1] - thesis[0])
         # the thesis's method, made reproducible: a 55-unit tanh network trained on one IK branch
         # (θ2 ≥ 0), evaluated at poses with θ2 = 0; the window is the largest joint-2 error there
+        s.say("training the learned IK")
         learned, reports = learned_windows(robot, analysis=analysis, seed=seed)
         rep = reports[0]
         w_learned = rep["width"]
@@ -130,6 +131,8 @@ def run(s: Study) -> None:
         runs = []
         for n_train in train_sizes:
             for sd in train_seeds:
+                if not (n_train == rep["n_train"] and sd == seed):
+                    s.say(f"training run: {n_train:,} poses, seed {sd}")
                 r = rep if (n_train == rep["n_train"] and sd == seed) else \
                     learned_windows(robot, analysis=analysis, seed=sd, n_train=n_train)[1][0]
                 runs.append({"n_train": n_train, "seed": sd, "width": r["width"], "heldout_r2": r["heldout_r2"],

@@ -108,6 +108,10 @@ class Study:
             sec.seconds = time.perf_counter() - t
             self._current = prev
 
+    def say(self, text: str) -> None:
+        """A progress line inside a long section (shown like a section's title; never in the report)."""
+        self._say(f"  {text}  ({time.perf_counter() - self._t0:.0f} s)")
+
     def _add(self, block) -> None:
         if self._current is None:
             raise RuntimeError("report blocks go inside `with s.section(title):`")

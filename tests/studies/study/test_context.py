@@ -157,3 +157,15 @@ def test_a_study_script_refuses_foreign_files_in_one_line(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "notes.txt" in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
     assert (tmp_path / "my_study" / "notes.txt").read_text() == "mine"
+
+
+def test_progress_shows_sections_and_steps_but_the_report_does_not(tmp_path):
+    lines = []
+
+    def run(s):
+        with s.section("Long work"):
+            s.say("step 1 of 2")
+            s.text("done")
+    run_study_function(run, "p", "P", tmp_path / "p", progress=lines.append)
+    assert lines[0].startswith("Long work") and lines[1].startswith("  step 1 of 2") and "writing" in lines[-1]
+    assert "step 1 of 2" not in (tmp_path / "p" / "report.html").read_text()
