@@ -378,10 +378,11 @@ def _explanation(out: dict) -> list[str]:
     u = np.asarray(st["lost_twist"])
     names = ("vx", "vy", "vz", "ωx", "ωy", "ωz")
     what = (f"a pure {names[int(np.argmax(np.abs(u)))]}" if np.abs(u).max() > 0.99 else
-            "the twist " + str(np.round(u, 3).tolist()))
+            "the twist (" + ", ".join(f"{x:.3g}" for x in np.round(u, 3) + 0.0) + ")")
     lines = [
         (f"The start pose is singular: σ_min(J) = {st['sigma_min']:.3g} (θ5 = 0). The lost twist is {what} (base "
-         f"frame; tool frame {np.round(st['lost_rotation_in_tool_frame'], 6).tolist()}): the pen axis tilting. "
+         f"frame; ({', '.join(f'{x:.3g}' for x in np.round(st['lost_rotation_in_tool_frame'], 6) + 0.0)}) in the tool "
+         "frame): the pen axis tilting. "
          f"Its component along the pen axis is {st['lost_rotation_about_pen_axis']:.3g}: rotation about the pen's "
          "own axis is not the lost direction — it stays available (the Jacobian's null space is a self-motion of "
          f"joints {', '.join(str(j + 1) for j in np.flatnonzero(np.abs(st['self_motion']) > 1e-9))}), so freeing "

@@ -165,8 +165,10 @@ def run(s: Study) -> None:
                             title="The follower's drawing (pose mode)"), "drawing_3d",
                  "The arm at the start pose and the pen path of the follower in pose mode (the slider moves the arm "
                  "along it).")
+        # rmt drawing's explanation, without the two sentences the section above already gives
         for line in res["explanation"]:
-            s.text(line)
+            if not line.startswith(("The path alone says so", "Pose mode", "Axis mode", "Pose and axis mode")):
+                s.text(line)
         nh, nv, qp = res["naive_homework"], res["naive"], res["qp"]
         s.finding(f"the homework's naive method (Jacobian with axes z1…z6) blows up at the first step: joint speeds up "
                   f"to {nh['peak_joint_speed']:.2g} rad/s and a {nh['max_position_error_m'] * 1e3:.0f} mm tracking "
