@@ -147,7 +147,7 @@ def study(s: Study, scratch: Path) -> None:
         # a second verification with a much larger IK budget: the answer must not depend on the budget
         cov_big = coverage(robot, task.targets, task.dexterity, p_ip, seeds=8, samples=50_000, seed=1)
         rows = [[i, *(mm * np.array(list(st["p0"].values()))), *(mm * np.array(list(st["p"].values()))),
-                 mm * st["objective"], st["status"], st["iterations"], st["time_s"],
+                 mm * st["objective"], st["status"], st["iterations"], round(st["time_s"], 3),
                  100 * st["verified_coverage"]] for i, st in enumerate(ip.solver["starts"])]
         s.table(["start", "A1 start (mm)", "A2 start (mm)", "A1 (mm)", "A2 (mm)", "Σ(|a|+|d|) (mm)", "IPOPT status",
                  "iterations", "time (s)", "verified coverage (%)"], rows,
