@@ -1,8 +1,8 @@
 """Dask distributed: an existing cluster (``scheduler="tcp://HOST:PORT"``) or a ``LocalCluster``
 started for the run (``local_workers=N``: N worker processes, one thread each).
 
-The job is scattered to every worker once; designs go out in chunks (the driver sizes them to
-≥ ~0.1 s of work, so the scheduler's per-task overhead does not dominate), at most ``in_flight``
+The job is scattered to every worker once (and again after a worker died: a dying worker can take
+the scattered key with it); designs go out in chunks (the driver sizes them to ≥ ~0.1 s of work, so the scheduler's per-task overhead does not dominate), at most ``in_flight``
 chunks per worker are submitted at a time and results are taken with ``as_completed``, so memory
 stays flat however many designs the sweep has.  A chunk whose worker died (the future errs, e.g.
 ``KilledWorker``) is resubmitted; after ``max_tries`` its designs are stored as failed.
@@ -62,6 +62,7 @@ class DaskExecutor:
         """Connect (or start the LocalCluster) and scatter the job to every worker."""
         self._client, self._cluster = self._client_for_run()
         self.workers = max(1, len(self._client.scheduler_info().get("workers", {})))
+        self._job_value = job
         self._job = self._client.scatter(job, broadcast=True)
 
     def close(self) -> None:
@@ -104,6 +105,9 @@ class DaskExecutor:
                     if tries + 1 >= self.max_tries:
                         yield lost_chunk(chunk, tries + 1)
                     else:
+                        # a dying worker can take the scattered job with it (the scheduler then drops
+                        # the key): scatter it again before the chunk goes out once more
+                        self._job = client.scatter(self._job_value, broadcast=True)
                         submit(chunk, tries + 1)
                     fill()
                     continue
