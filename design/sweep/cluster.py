@@ -3,8 +3,9 @@ started for the run (``local_workers=N``: N worker processes, one thread each).
 
 The job is scattered to every worker once (and again after a worker died: a dying worker can take
 the scattered key with it); designs go out in chunks (the driver sizes them to ≥ ~0.1 s of work, so
-the scheduler's per-task overhead does not dominate), at most ``in_flight`` chunks per worker are submitted at a time and results are taken with ``as_completed``, so memory
-stays flat however many designs the sweep has.  A chunk whose worker died (the future errs, e.g.
+the scheduler's per-task overhead does not dominate), at most ``in_flight`` chunks per worker are
+submitted at a time and results are taken with ``as_completed``, so memory stays flat however many
+designs the sweep has.  A chunk whose worker died (the future errs, e.g.
 ``KilledWorker``) is resubmitted; after ``max_tries`` its designs are stored as failed.
 """
 from __future__ import annotations
