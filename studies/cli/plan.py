@@ -34,15 +34,19 @@ def _num(x):
 
 
 
-def write_path_csv(robot, path_si: np.ndarray, out: str | Path) -> Path:
-    """A joint path as CSV in the robot file's units (header q1..qn), written with
-    :func:`kin.output.write_output`."""
+def path_csv_text(robot, path_si: np.ndarray) -> str:
+    """A joint path as CSV text in the robot file's units (header q1..qn; values exact to the bit)."""
     buf = io.StringIO()
     w = csv.writer(buf)
     w.writerow([f"q{i + 1}" for i in range(robot.n)])
-    for row in robot.chain.from_si(path_si):
+    for row in robot.chain.from_si(np.asarray(path_si, float)):
         w.writerow([repr(float(x)) for x in row])
-    return write_output(out, buf.getvalue())
+    return buf.getvalue()
+
+
+def write_path_csv(robot, path_si: np.ndarray, out: str | Path) -> Path:
+    """A joint path as CSV (:func:`path_csv_text`), written with :func:`kin.output.write_output`."""
+    return write_output(out, path_csv_text(robot, path_si))
 
 
 def read_path_csv(robot, path: str | Path) -> np.ndarray:

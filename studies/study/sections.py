@@ -7,8 +7,6 @@ study can go on with it.  Values are shown in the robot file's units.
 """
 from __future__ import annotations
 
-import io
-
 import numpy as np
 
 import kin
@@ -175,14 +173,9 @@ def planned_path(s: Study, robot: kin.Robot, windows, start, goal, *, planner: s
 
 
 def path_csv(robot: kin.Robot, path: np.ndarray) -> str:
-    """A joint path as CSV text in the robot file's units (header q1…qn)."""
-    c = robot.chain
-    Q = c.from_si(np.asarray(path, float))
-    buf = io.StringIO()
-    buf.write(",".join(f"q{i + 1}" for i in range(c.n)) + "\n")
-    for row in Q:
-        buf.write(",".join(repr(float(x)) for x in row) + "\n")
-    return buf.getvalue()
+    """A joint path as CSV text in the robot file's units (header q1…qn), as ``rmt plan --out`` writes it."""
+    from studies.cli.plan import path_csv_text
+    return path_csv_text(robot, path)
 
 
 class _tmp_png:
