@@ -26,7 +26,8 @@ def cmd_study(args, load_robot) -> int:
         print(_list())
         return EXIT_OK
     quiet = args.quiet or args.json
-    progress = None if quiet else (lambda t: print(f"… {t}", file=sys.stderr, flush=True))
+    # progress lines on a terminal only (a log or a pipe gets the summary alone)
+    progress = None if quiet or not sys.stderr.isatty() else (lambda t: print(f"… {t}", file=sys.stderr, flush=True))
     target = args.study or bundled.DEFAULT
     if target.endswith(".toml") or "/" in target or Path(target).is_file():
         from studies.study import kinematics as ks

@@ -68,7 +68,8 @@ def _main(module: ModuleType, prog: str, argv: list[str] | None) -> int:
     ap.add_argument("--out", default="out", help="output directory; the run goes to OUT/NAME (default: out)")
     ap.add_argument("--quiet", action="store_true", help="print nothing but errors")
     args = ap.parse_args(argv)
-    progress = None if args.quiet else (lambda t: print(f"… {t}", file=sys.stderr, flush=True))
+    progress = None if args.quiet or not sys.stderr.isatty() else \
+        (lambda t: print(f"… {t}", file=sys.stderr, flush=True))
     s, _, report = run_module(module, args.out, args.quick, progress)
     if not args.quiet:
         print(terminal_summary(s, report))
