@@ -45,3 +45,15 @@ def assert_report_renders(report_browser, report: Path, results: dict, numbers: 
     for n in numbers:
         assert n.replace("−", "-") in text, n
     assert results["title"] in c.title
+
+
+def assert_report_holds(report: Path, results: dict, texts, pngs) -> None:
+    """The report's HTML holds each of ``texts``; each of ``pngs`` is a PNG file beside it, listed in
+    results.json's ``meta.files`` and embedded in the page."""
+    page = report.read_text(encoding="utf-8")
+    for text in texts:
+        assert text in page, text
+    for png in pngs:
+        assert (report.parent / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", png
+        assert png in results["meta"]["files"], png
+    assert page.count("data:image/png;base64,") >= len(pngs)
