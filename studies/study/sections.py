@@ -7,6 +7,9 @@ study can go on with it.  Values are shown in the robot file's units.
 """
 from __future__ import annotations
 
+import tempfile
+from pathlib import Path
+
 import numpy as np
 
 import kin
@@ -125,7 +128,8 @@ def workspace(s: Study, robot: kin.Robot, samples: int, seed: int = 0, title: st
     s.input(f"{name}: samples", samples)
     s.input(f"{name}: seed", seed)
     ws = compute_workspace(robot, n_samples=samples, seed=seed, **options)
-    with _tmp_png() as p:
+    with tempfile.TemporaryDirectory(prefix="rmt-fig-") as tmp:
+        p = Path(tmp) / "figure.png"
         plot_workspace(ws, p, title=title or f"{robot.chain.title or robot.chain.name}: functional workspace")
         s.image(p, f"The functional workspace: {len(ws.positions):,} samples, near-singular ones in red "
                    f"({ws.threshold_rule}).", name=name)
@@ -176,17 +180,3 @@ def path_csv(robot: kin.Robot, path: np.ndarray) -> str:
     """A joint path as CSV text in the robot file's units (header q1…qn), as ``rmt plan --out`` writes it."""
     from studies.cli.plan import path_csv_text
     return path_csv_text(robot, path)
-
-
-class _tmp_png:
-    """A temporary PNG path for plotting functions that write files."""
-
-    def __enter__(self):
-        import tempfile
-        from pathlib import Path
-
-        self._dir = tempfile.TemporaryDirectory(prefix="rmt-fig-")
-        return Path(self._dir.name) / "figure.png"
-
-    def __exit__(self, *exc):
-        self._dir.cleanup()
