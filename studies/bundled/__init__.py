@@ -27,9 +27,3 @@ def load(name: str) -> ModuleType:
         raise UnknownStudyError(f"unknown study {name!r}; bundled studies: {', '.join(STUDIES)} "
                                 "(or give a study .toml file)")
     return importlib.import_module(f"studies.bundled.{name}")
-
-
-def available() -> list[str]:
-    """The bundled studies whose module exists (all of :data:`STUDIES` in a complete install)."""
-    import importlib.util
-    return [n for n in STUDIES if importlib.util.find_spec(f"studies.bundled.{n}") is not None]

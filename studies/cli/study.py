@@ -12,7 +12,7 @@ from studies.cli.common import EXIT_FAIL, EXIT_OK, dump
 def _list() -> str:
     from studies import bundled
     rows = []
-    for name in bundled.available():
+    for name in bundled.STUDIES:
         mod = bundled.load(name)
         default = "  (default)" if name == bundled.DEFAULT else ""
         rows.append(f"{name:<22} {mod.TITLE}{default}")

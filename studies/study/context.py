@@ -72,7 +72,7 @@ class Study:
         self._say = progress or (lambda text: None)
         self._t0 = time.perf_counter()
         self._current: rd.Section | None = None
-        self._robots: dict[str, str] = {}
+        self._robot_paths: set[str] = set()
 
     # ----------------------------------------------------------------------------------- inputs
     def input(self, label: str, value: Any) -> Any:
@@ -88,9 +88,9 @@ class Study:
         """Load a robot (bundled name or file) and record its file in the report."""
         robot = kin.load_robot(name_or_path)
         src = robot_path(name_or_path).resolve()
-        if str(src) not in self._robots:
-            self._robots[str(src)] = src.read_text(encoding="utf-8")
-            self.doc.robot_files.append((_shown_path(src), self._robots[str(src)]))
+        if str(src) not in self._robot_paths:
+            self._robot_paths.add(str(src))
+            self.doc.robot_files.append((_shown_path(src), src.read_text(encoding="utf-8")))
         return robot
 
     # --------------------------------------------------------------------------------- sections
