@@ -10,7 +10,7 @@ from kin.output import write_output
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-__all__ = ["save_figure", "no_offsets"]
+__all__ = ["save_figure", "png_bytes", "no_offsets"]
 
 
 def no_offsets(fig: Figure) -> Figure:
@@ -25,9 +25,18 @@ def no_offsets(fig: Figure) -> Figure:
                 fmt.set_useOffset(False)
     return fig
 
-def save_figure(fig: Figure, path: str | os.PathLike, dpi: int | None = None) -> Path:
-    """Write ``fig`` as PNG to ``path`` with :func:`kin.output.write_output` (atomic; never replaces
-    anything but a regular file; missing parent directories are created)."""
+def png_bytes(fig: Figure, dpi: int | None = None) -> bytes:
+    """``fig`` rendered as PNG (Agg canvas, offset notation off)."""
+    import io
+
     FigureCanvasAgg(fig)
     no_offsets(fig)
-    return write_output(path, lambda fh: fig.savefig(fh, format="png", dpi=dpi))
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi)
+    return buf.getvalue()
+
+
+def save_figure(fig: Figure, path: str | os.PathLike, dpi: int | None = None) -> Path:
+    """Write ``fig`` as PNG (:func:`png_bytes`) to ``path`` with :func:`kin.output.write_output`
+    (atomic; never replaces anything but a regular file; missing parent directories are created)."""
+    return write_output(path, png_bytes(fig, dpi))

@@ -16,7 +16,6 @@ in its ``results.json``; anything else there is refused, never deleted.
 """
 from __future__ import annotations
 
-import io
 import json
 import platform
 import re
@@ -132,16 +131,10 @@ class Study:
 
     def figure(self, fig, name: str, caption: str = "", dpi: int | None = None) -> str:
         """Add a matplotlib figure as ``NAME.png`` (written beside the report and embedded in it)."""
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-
-        from studies.plots.figure import no_offsets
+        from studies.plots.figure import png_bytes
 
         fname = self._file_name(f"{name}.png")
-        FigureCanvasAgg(fig)
-        no_offsets(fig)
-        buf = io.BytesIO()
-        fig.savefig(buf, format="png", dpi=dpi)
-        self.files[fname] = buf.getvalue()
+        self.files[fname] = png_bytes(fig, dpi)
         self._add(rd.Figure(fname, self.files[fname], caption))
         return fname
 
