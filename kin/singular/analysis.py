@@ -115,6 +115,9 @@ class SingularityAnalysis:
     lengths: dict[str, float]
     derivation: str = ""
     budget: dict = field(default_factory=dict)
+    #: the seed and the per-factor sample count the zero-set samples (and a numeric analysis) came from
+    seed: int = 0
+    samples: int = 200
 
     def to_dict(self) -> dict:
         return {"robot": self.robot, "method": self.method, "derivation": self.derivation, "rows": list(self.rows),
@@ -270,7 +273,8 @@ def analyse_singularities(robot, samples: int = 200, seed: int = 0, exact_timeou
                                    rows=tuple(ROW_NAMES[r] for r in rows), seconds=time.perf_counter() - t0,
                                    lengths=lengths, budget=budget,
                                    derivation=derivation_text(structure["split"], chain.n, rows,
-                                                              structure["lengths_numeric"]))
+                                                              structure["lengths_numeric"]),
+                                   seed=seed, samples=samples)
     t1 = time.perf_counter()
     comps, info = numeric_components(robot, seed=seed, time_limit=float(numeric_time), progress=progress)
     budget.update({"numeric_seconds": time.perf_counter() - t1, **{f"numeric_{k}": v for k, v in info.items()
@@ -280,4 +284,4 @@ def analyse_singularities(robot, samples: int = 200, seed: int = 0, exact_timeou
                   f"(the exact path: {budget['exact_status']} after {budget['exact_seconds']:.1f} s)")
     return SingularityAnalysis(robot=chain.name, factors=comps, method="numeric",
                                rows=tuple(ROW_NAMES[r] for r in rows), seconds=time.perf_counter() - t0,
-                               lengths={}, derivation=derivation, budget=budget)
+                               lengths={}, derivation=derivation, budget=budget, seed=seed, samples=samples)

@@ -3,13 +3,17 @@ margins from a σ_min or manipulability threshold (:func:`dexterity_margins`), a
 :func:`build_windows`, which puts them together.  See :mod:`planning.windows` for what a window is."""
 from __future__ import annotations
 
+import copy
 import math
+from functools import lru_cache
 from typing import Sequence
 
 import numpy as np
 
 from kin.singular import SingularComponent, SingularFactor, SingularityAnalysis, analyse_singularities
 
+from planning.certify.gradient import gradient_bound, zero_free
+from planning.certify.intervals import IntervalError
 from planning.errors import WindowError
 from planning.windows.model import Window, WindowSet
 from planning.windows.sampled import PointSetWindow
@@ -21,6 +25,14 @@ SAFETY = 1.02
 BUILD_MARGIN = 1.2
 #: a dexterity threshold whose windows would cover more of the joint space than this is refused
 MAX_COVERAGE = 0.5
+#: windows are built from the singular analysis with this seed and sample count, whatever seed a
+#: command was given: the zero-set samples of a numeric component (its point-set window) and the
+#: dexterity margins' starting points come from them, and a window must not depend on a seed
+WINDOW_SEED = 0
+WINDOW_SAMPLES = 200
+#: the rule a |g| ≤ ε window is built by (recorded in its detail)
+EPSILON_RULE = ("epsilon = width × G, G a bound of ‖∇g‖ over the joint limits proven by interval arithmetic: "
+                "every configuration within the width of the zero set (joint distance, SI) is inside")
 
 
 
@@ -53,24 +65,48 @@ def window_for_factor(factor: SingularFactor | SingularComponent, width: float, 
     if j is not None:
         roots = factor.solutions.get("values", [])
         ivs = _merge([(max(r - width, lower[j]), min(r + width, upper[j])) for r in roots])
+        detail["proof"] = "exact: the roots of a one-joint factor"
         return Window(name, factor.kind, factor.expr, factor.joints, float(width), method, n, intervals=ivs,
                       detail=detail)
     if _sampled(factor):
         cols = [jj - 1 for jj in factor.joints]
         detail.update({"resolution": factor.resolution, "points": int(len(factor.points)),
-                       "note": "distance over the component's joints to its sampled points"})
+                       "note": "distance over the component's joints to its sampled points",
+                       "proof": "sampled: the component has no formula; the window holds every configuration "
+                                "within the width of its sampled points, so at least the set's "
+                                "(width − resolution)-neighbourhood as far as fresh projections show"})
         return PointSetWindow(name, factor.kind, factor.expr, factor.joints, float(width), method, n,
                               points=factor.points[:, cols], detail=detail, normals=factor.local_normals,
                               radius=None if factor.local_normals is None else factor.radius)
-    S = factor.samples
-    if len(S) == 0:   # zero set outside the limits: an empty window
+    bound = factor_gradient_bound(factor.expr, n, tuple(map(float, lower)), tuple(map(float, upper)))
+    if bound is None:
+        raise WindowError(f"the {factor.kind} factor {factor.expr} holds an operation that interval arithmetic does "
+                          "not support: its window cannot be bounded")
+    G, attained, converged, empty = bound
+    if empty:   # zero set proven outside the limits: an empty window
         return Window(name, factor.kind, factor.expr, factor.joints, float(width), method, n, epsilon=-1.0,
-                      detail={**detail, "note": "zero set outside the joint limits"})
-    gn = np.linalg.norm(factor.gradient(S), axis=1)
-    eps = float(width * gn.max())
-    detail.update({"grad_norm_min": float(gn.min()), "grad_norm_max": float(gn.max()),
-                   "width_range": [float(width), float(width * gn.max() / max(gn.min(), 1e-300))]})
-    return Window(name, factor.kind, factor.expr, factor.joints, float(width), method, n, epsilon=eps, detail=detail)
+                      detail={**detail, "note": "zero set outside the joint limits (proven)"})
+    detail.update({"proof": "interval bound", "rule": EPSILON_RULE, "grad_norm_bound": G, "grad_norm_attained": attained,
+                   "bound_converged": converged})
+    return Window(name, factor.kind, factor.expr, factor.joints, float(width), method, n, epsilon=float(width * G),
+                  detail=detail)
+
+
+@lru_cache(maxsize=64)
+def factor_gradient_bound(expr: str, n: int, lower: tuple[float, ...],
+                          upper: tuple[float, ...]) -> tuple[float, float, bool, bool] | None:
+    """(G, attained, converged, empty) for the factor ``expr`` over the joint box: G a proven bound of
+    ‖∇g‖ (:func:`planning.certify.gradient.gradient_bound`), ``attained`` a value of ‖∇g‖ reached in
+    the box, ``empty`` whether g is proven nonzero on the whole box.  None when interval arithmetic
+    does not support the expression."""
+    from kin.singular.expression import parse_expression
+    g = parse_expression(expr, n, "singular factor")
+    try:
+        empty = zero_free(g, n, lower, upper)
+        b = gradient_bound(g, n, lower, upper)
+    except IntervalError:
+        return None
+    return b.bound, b.attained, b.converged, empty
 
 
 def _normal_directions(factor: SingularFactor, S: np.ndarray) -> np.ndarray:
@@ -171,8 +207,11 @@ def dexterity_margins(robot, analysis: SingularityAnalysis, threshold: float, me
             grad_max.append(0.0)
             continue
         S = S[rng.choice(len(S), min(len(S), 100), replace=False)]
-        grad_max.append(float(np.linalg.norm(f.gradient(f.samples), axis=1).max())
-                        if f.single_joint is None and not _sampled(f) else 1.0)
+        if f.single_joint is None and not _sampled(f):     # the window's own metric: |g| / G
+            bound = factor_gradient_bound(f.expr, robot.n, tuple(map(float, lo)), tuple(map(float, hi)))
+            grad_max.append(0.0 if bound is None or bound[3] else bound[0])
+        else:
+            grad_max.append(1.0)
         D = _normal_directions(f, S)
         ts = np.geomspace(1e-5, limits[-1], steps)
         for sign in (1.0, -1.0):
@@ -233,18 +272,39 @@ def dexterity_margins(robot, analysis: SingularityAnalysis, threshold: float, me
                                          "samples": int(sum(len(p) for p in parts)), "below_threshold": int(low)}
 
 
+def _canonical(robot, analysis: SingularityAnalysis | None, needs_samples: bool) -> SingularityAnalysis:
+    """The analysis windows are built from: ``analysis`` when it is ``robot``'s and, where its samples
+    matter (a numeric analysis, dexterity margins), drawn with :data:`WINDOW_SEED` and
+    :data:`WINDOW_SAMPLES`; otherwise a fresh one with those (the exact part is cached on disk)."""
+    if analysis is None:
+        return analyse_singularities(robot, samples=WINDOW_SAMPLES, seed=WINDOW_SEED)
+    if not isinstance(analysis, SingularityAnalysis):
+        raise WindowError(f"analysis must be a SingularityAnalysis (kin.singular.analyse_singularities), "
+                          f"got {type(analysis).__name__}")
+    bad = [f for f in analysis.factors if getattr(f, "n", None) != robot.n
+           or not all(isinstance(j, (int, np.integer)) and 1 <= j <= robot.n for j in f.joints)]
+    if analysis.robot != robot.name or bad:
+        raise WindowError(f"analysis is of {analysis.robot!r} ({bad[0].n if bad else '?'} joints), not of "
+                          f"{robot.name!r} ({robot.n} joints): pass the analysis of the same robot, or none")
+    if needs_samples and (getattr(analysis, "seed", None), getattr(analysis, "samples", None)) != (WINDOW_SEED, WINDOW_SAMPLES):
+        return analyse_singularities(robot, samples=WINDOW_SAMPLES, seed=WINDOW_SEED)
+    return analysis
+
+
 def build_windows(robot, margin: float | Sequence[float] | None = None, sigma_min: float | None = None,
-                  manipulability: float | None = None, analysis: SingularityAnalysis | None = None,
-                  seed: int = 0) -> WindowSet:
+                  manipulability: float | None = None, analysis: SingularityAnalysis | None = None) -> WindowSet:
     """Windows for every singular factor of ``robot``; exactly one width source must be given.
 
     ``margin``: one SI width for all factors, or one per factor (in ``analysis.factors`` order);
-    ``sigma_min`` / ``manipulability``: a dexterity threshold (see :func:`dexterity_margin`).
+    ``sigma_min`` / ``manipulability``: a dexterity threshold (see :func:`dexterity_margins`).
+    The result depends on the robot, the factors and the widths only: no seed enters it (see
+    :data:`WINDOW_SEED`); ``analysis`` saves recomputing the singular set.
     """
     given = [x is not None for x in (margin, sigma_min, manipulability)]
     if sum(given) != 1:
         raise WindowError("give exactly one window width source: margin, sigma_min or manipulability")
-    analysis = analysis or analyse_singularities(robot, seed=seed)
+    dexterity = margin is None
+    analysis = _canonical(robot, analysis, dexterity or (analysis is not None and analysis.method != "exact"))
     lo, hi = robot.chain.lower, robot.chain.upper
     factors = analysis.factors
     if margin is not None:
@@ -252,12 +312,39 @@ def build_windows(robot, margin: float | Sequence[float] | None = None, sigma_mi
         if len(widths) != len(factors):
             raise WindowError(f"{len(widths)} margins given for {len(factors)} singular factors")
         for w in widths:
-            if not (float(w) >= 0 and math.isfinite(float(w))):
+            if isinstance(w, (bool, str)) or not (float(w) >= 0 and math.isfinite(float(w))):
                 raise WindowError(f"margin {w} must be a finite number ≥ 0 (rad for revolute, m for prismatic)")
         method, detail = "margin", {}
     else:
         method = "sigma_min" if sigma_min is not None else "manipulability"
+        if analysis.method != "exact":     # the margins absorb points into the components: work on a copy
+            analysis = copy.deepcopy(analysis)
+            factors = analysis.factors
         widths, detail = dexterity_margins(robot, analysis, float(sigma_min if sigma_min is not None
-                                                                   else manipulability), method, seed=seed)
+                                                                   else manipulability), method)
     out = [window_for_factor(f, float(w), method, lo, hi, detail) for f, w in zip(factors, widths)]
-    return WindowSet(robot=robot.name, n=robot.n, windows=out)
+    ws = WindowSet(robot=robot.name, n=robot.n, windows=out)
+    if dexterity:
+        floor = float(sigma_min if sigma_min is not None else manipulability)
+        miss = floor_misses(robot, ws, floor, method)
+        for w in ws.windows:
+            w.detail["floor"] = miss
+    return ws
+
+
+#: fresh configurations on which a dexterity floor is checked after the windows are built
+FLOOR_CHECK_SAMPLES = 50_000
+
+
+def floor_misses(robot, windows: WindowSet, threshold: float, measure: str) -> dict:
+    """How a dexterity floor holds outside ``windows``: it is found by sampling, not proven, so it is
+    checked on :data:`FLOOR_CHECK_SAMPLES` fresh uniform configurations (a fixed seed, none of the
+    build's): how many lie outside every window with the measure below ``threshold``."""
+    Q = np.random.default_rng(WINDOW_SEED + 7919).uniform(robot.chain.lower, robot.chain.upper,
+                                                          size=(FLOOR_CHECK_SAMPLES, robot.n))
+    outside = ~windows.contains(Q)
+    res, _ = robot.evaluate(Q[outside], 4 | 8)
+    low = int(np.count_nonzero(res["measures"][:, 1 if measure == "sigma_min" else 0] < threshold))
+    return {"proof": "sampled", "measure": measure, "threshold": threshold, "fresh_samples": FLOOR_CHECK_SAMPLES,
+            "outside_windows": int(outside.sum()), "below_threshold_outside": low,
+            "miss_rate": low / FLOOR_CHECK_SAMPLES}

@@ -173,8 +173,8 @@ def run(s: Study) -> None:
                f"{qdot_max:g} rad/s; and the thesis's **learned-IK** method — a 55-unit tanh network trained on "
                f"{n_train:,} poses of one IK branch, asked for the joints of poses on each singular set, the window "
                "being its largest joint error there.")
-        w_margin = build_windows(robot, margin=margin, analysis=analysis, seed=seed)
-        w_sigma = build_windows(robot, sigma_min=threshold, analysis=analysis, seed=seed)
+        w_margin = build_windows(robot, margin=margin, analysis=analysis)
+        w_sigma = build_windows(robot, sigma_min=threshold, analysis=analysis)
         s.say(f"training the learned IK on {n_train:,} poses")
         w_learned, reports = learned_windows(robot, analysis=analysis, seed=seed, n_train=n_train)
         by_kind = {w.kind: w for w in w_learned.windows}

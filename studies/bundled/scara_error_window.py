@@ -106,7 +106,7 @@ def run(s: Study) -> None:
         w_learned = rep["width"]
         s.results["learned"] = jsonable_report(rep)
         # a window from a dexterity requirement: σ_min ≥ threshold outside it
-        dex = build_windows(robot, sigma_min=threshold, analysis=analysis, seed=seed)
+        dex = build_windows(robot, sigma_min=threshold, analysis=analysis)
         w_sigma = dex.windows[0].width
         # σ_min of this arm depends on θ2 alone (θ1 turns the arm, d3 lifts it): checked on samples
         q_probe = robot.random_configurations(200, seed=seed + 1)

@@ -123,18 +123,20 @@ def factor_margins(chain: kin.Chain, analysis, margin: float, what: str = "--mar
     return out
 
 
-def windows_from_args(robot: kin.Robot, margin: float | None, sigma_min: float | None, seed: int = 0):
-    """Windows from ``--margin`` (file units) or ``--sigma-min`` (SI threshold); None when neither."""
+def windows_from_args(robot: kin.Robot, margin: float | None, sigma_min: float | None):
+    """Windows from ``--margin`` (file units) or ``--sigma-min`` (SI threshold); None when neither.
+    The same for every command and seed (:func:`planning.windows.build_windows`)."""
     if margin is None and sigma_min is None:
         return None
     from kin.singular import analyse_singularities
     from planning.windows import build_windows
+    from planning.windows.build import WINDOW_SAMPLES, WINDOW_SEED
     from studies.cli.progress import TerminalProgress
     with TerminalProgress() as progress:
-        analysis = analyse_singularities(robot, seed=seed, progress=progress)
+        analysis = analyse_singularities(robot, samples=WINDOW_SAMPLES, seed=WINDOW_SEED, progress=progress)
     if margin is not None:
         return build_windows(robot, margin=factor_margins(robot.chain, analysis, margin), analysis=analysis)
-    return build_windows(robot, sigma_min=sigma_min, analysis=analysis, seed=seed)
+    return build_windows(robot, sigma_min=sigma_min, analysis=analysis)
 
 
 def jsonable(obj):

@@ -98,7 +98,7 @@ def cmd_plan(args, load_robot) -> int:
                                 "(the robot file's angle unit)")
         goal_pose = make_transform(rpy_to_matrix(rpy), xyz)
     boxes = _keep_out(c, args)
-    ws = windows_from_args(robot, args.margin, args.sigma_min, args.seed)
+    ws = windows_from_args(robot, args.margin, args.sigma_min)
     res = plan(robot, start, goal, ws, goal_pose=goal_pose, planner=args.planner, time_limit=args.time_limit,
                seed=args.seed, objective=args.objective, boxes=boxes)
     if goal is None:
@@ -163,7 +163,7 @@ def cmd_check_path(args, load_robot) -> int:
                                    check_path)
     robot = require_task_rows(load_robot(args.robot))
     P = read_path_csv(robot, args.path)
-    ws = windows_from_args(robot, args.margin, args.sigma_min, args.seed)
+    ws = windows_from_args(robot, args.margin, args.sigma_min)
     c = robot.chain
     step_angle = DEFAULT_STEP_ANGLE if args.step is None else args.step * c.angle_scale
     step_length = DEFAULT_STEP_LENGTH if args.step is None else args.step * c.length_scale

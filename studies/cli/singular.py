@@ -40,12 +40,12 @@ def singularities_json(robot: kin.Robot, analysis) -> dict:
             "lengths": analysis.lengths, "seconds": analysis.seconds}
 
 
-def _analyse(robot, args):
+def _analyse(robot, args, seed: int | None = None):
     from kin.singular import analyse_singularities
     from studies.cli.progress import TerminalProgress
     budget = {} if args.exact_timeout is None else {"exact_timeout": args.exact_timeout}
     with TerminalProgress() as progress:
-        return analyse_singularities(robot, seed=args.seed, progress=progress, **budget)
+        return analyse_singularities(robot, seed=args.seed if seed is None else seed, progress=progress, **budget)
 
 
 def cmd_singularities(args, load_robot) -> int:
@@ -95,15 +95,17 @@ def _windows_text(robot: kin.Robot, ws) -> str:
 
 def cmd_windows(args, load_robot) -> int:
     from planning.windows import build_windows
+    from planning.windows.build import WINDOW_SEED
     output_file(args.out)
     robot = require_task_rows(load_robot(args.robot))
     c = robot.chain
-    analysis = _analyse(robot, args)
+    # margin and σ_min windows come from the analysis with the windows' own seed, whatever --seed says
+    analysis = _analyse(robot, args, seed=args.seed if args.learned else WINDOW_SEED)
     reports = None
     if args.margin is not None:
-        ws = build_windows(robot, margin=factor_margins(c, analysis, args.margin), analysis=analysis, seed=args.seed)
+        ws = build_windows(robot, margin=factor_margins(c, analysis, args.margin), analysis=analysis)
     elif args.sigma_min is not None:
-        ws = build_windows(robot, sigma_min=args.sigma_min, analysis=analysis, seed=args.seed)
+        ws = build_windows(robot, sigma_min=args.sigma_min, analysis=analysis)
     else:
         if analysis.method != "exact":
             raise CliInputError(f"--learned needs the exact singular factors; the exact analysis of {c.name} did not "
@@ -187,7 +189,8 @@ def add_commands(add) -> None:
     g.add_argument("--learned", action="store_true",
                    help="the thesis's method: widths from a learned IK model's error at singular poses")
     sp.add_argument("--out", metavar="FILE.json", help="save the windows (SI units) to a JSON file")
-    sp.add_argument("--seed", type=seed, default=0, help="seed (default 0)")
+    sp.add_argument("--seed", type=seed, default=0,
+                    help="seed of the learned model (default 0); margin and σ_min windows do not depend on it")
     _add_exact_timeout(sp)
     sp = add("workspace", cmd_workspace, "sampled workspace: volume, reach, near-singular share, plot")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")

@@ -57,7 +57,7 @@ def _windows(robot: kin.Robot, args):
         return ws
     if args.sigma_min is not None:
         _positive(args.sigma_min, "--sigma-min")
-    return windows_from_args(robot, args.margin, args.sigma_min, args.seed)
+    return windows_from_args(robot, args.margin, args.sigma_min)
 
 
 def _per_joint(robot: kin.Robot, values, what: str) -> np.ndarray | None:
@@ -224,7 +224,7 @@ def add_commands(add) -> None:
                     help="fail where σ_min (SI) drops below S")
     sp.add_argument("--start", nargs="+", metavar="Q",
                     help="configuration to solve the first waypoint from (the start branch), file units")
-    sp.add_argument("--seed", type=seed, default=0, help="seed of the global IK and of the windows (default 0)")
+    sp.add_argument("--seed", type=seed, default=0, help="seed of the global IK (default 0; the windows do not depend on it)")
     sp.add_argument("--tol-position", type=bounded(0, math.inf, "(file length unit)", open_low=True), metavar="E", help="reach tolerance, file length unit (default 1e-6 m)")
     sp.add_argument("--tol-orientation", type=bounded(0, math.inf, "(file angle unit)", open_low=True), metavar="E",
                     help="orientation tolerance, file angle unit (default 1e-6 rad)")
