@@ -23,11 +23,26 @@ found by sampling the factor's neighbourhood; the floor is then sampled, not pro
 (``design.learned.ik``).
 Windows save to and load from JSON; membership of a batch is vectorised.
 
-The values are in :mod:`planning.windows.model`, their construction in :mod:`planning.windows.build`.
+The values are in :mod:`planning.windows.model`, their construction in :mod:`planning.windows.build`,
+built windows kept on disk in :mod:`planning.windows.cache`.
 """
-from planning.windows.build import build_windows, dexterity_margins, window_for_factor
 from planning.windows.model import METHODS, Window, WindowSet
 from planning.windows.sampled import PointSetWindow
 
 __all__ = ["Window", "WindowSet", "PointSetWindow", "METHODS", "build_windows", "dexterity_margins",
            "window_for_factor"]
+
+#: built on first use: building needs the symbolic side of kin.singular (sympy), using built
+#: windows (loaded from a file or the cache) does not
+_BUILD = {"build_windows", "dexterity_margins", "window_for_factor"}
+
+
+def __getattr__(name: str):
+    if name in _BUILD:
+        from planning.windows import build
+        return getattr(build, name)
+    raise AttributeError(f"module 'planning.windows' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | _BUILD)

@@ -125,18 +125,26 @@ def factor_margins(chain: kin.Chain, analysis, margin: float, what: str = "--mar
 
 def windows_from_args(robot: kin.Robot, margin: float | None, sigma_min: float | None):
     """Windows from ``--margin`` (file units) or ``--sigma-min`` (SI threshold); None when neither.
-    The same for every command and seed (:func:`planning.windows.build_windows`)."""
+    The same for every command and seed (:func:`planning.windows.build_windows`); built once per
+    robot content and width and then read from the cache (:mod:`planning.windows.cache`)."""
     if margin is None and sigma_min is None:
         return None
-    from kin.singular import analyse_singularities
-    from planning.windows import build_windows
-    from planning.windows.build import WINDOW_SAMPLES, WINDOW_SEED
-    from studies.cli.progress import TerminalProgress
-    with TerminalProgress() as progress:
-        analysis = analyse_singularities(robot, samples=WINDOW_SAMPLES, seed=WINDOW_SEED, progress=progress)
-    if margin is not None:
-        return build_windows(robot, margin=factor_margins(robot.chain, analysis, margin), analysis=analysis)
-    return build_windows(robot, sigma_min=sigma_min, analysis=analysis)
+    if margin is not None and not (math.isfinite(margin) and margin >= 0):
+        raise CliInputError(f"--margin {margin} must be a finite number ≥ 0 (robot file units)")
+    from planning.windows.cache import cached
+
+    def build():
+        from kin.singular import analyse_singularities
+        from planning.windows import build_windows
+        from planning.windows.build import WINDOW_SAMPLES, WINDOW_SEED
+        from studies.cli.progress import TerminalProgress
+        with TerminalProgress() as progress:
+            analysis = analyse_singularities(robot, samples=WINDOW_SAMPLES, seed=WINDOW_SEED, progress=progress)
+        if margin is not None:
+            return build_windows(robot, margin=factor_margins(robot.chain, analysis, margin), analysis=analysis)
+        return build_windows(robot, sigma_min=sigma_min, analysis=analysis)
+    request = {"margin": float(margin)} if margin is not None else {"sigma_min": float(sigma_min)}
+    return cached(robot, request, build)
 
 
 def jsonable(obj):

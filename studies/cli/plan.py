@@ -179,11 +179,13 @@ def cmd_check_path(args, load_robot) -> int:
     out = {"valid": chk.valid,
            "first_violation": None if fv is None else {"index": fv.index, "kind": fv.kind, "detail": fv.detail},
            "min_sigma": _num(chk.min_sigma), "min_sigma_index": chk.min_sigma_index,
-           "checked_states": chk.checked_states, "rows": int(len(P))}
+           "checked_states": chk.checked_states, "rows": int(len(P)),
+           "windows_check": chk.windows_check, "sigma_check": chk.sigma_check}
     if args.json:
         print(dump(out))
     elif chk.valid:
-        print(f"valid: {len(P)} rows, {chk.checked_states} states checked; min σ_min {chk.min_sigma:.3g} "
+        how = "" if chk.windows_check is None else f"; windows {chk.windows_check}"
+        print(f"valid: {len(P)} rows, {chk.checked_states} states checked{how}; min σ_min {chk.min_sigma:.3g} "
               f"(row {chk.min_sigma_index})")
     else:
         print(f"INVALID at row {fv.index}: {fv.kind} — {fv.detail}")
@@ -191,13 +193,13 @@ def cmd_check_path(args, load_robot) -> int:
     return 0 if chk.valid else 1
 
 
-def _window_args(sp) -> None:
+def _window_args(sp, seed_help: str) -> None:
     g = sp.add_mutually_exclusive_group()
     g.add_argument("--margin", type=bounded(0, math.inf, "(robot file units)"), metavar="X",
                    help="windows of this half-width, file units (angle for revolute factors, length otherwise)")
     g.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S",
                    help="windows from a σ_min threshold (SI)")
-    sp.add_argument("--seed", type=seed, default=0, help="seed (default 0)")
+    sp.add_argument("--seed", type=seed, default=0, help=seed_help)
 
 
 def add_commands(add) -> None:
@@ -212,7 +214,7 @@ def add_commands(add) -> None:
     sp.add_argument("--keep-out", metavar="FILE.toml", help="keep-out boxes of the work cell (TOML, see the README)")
     sp.add_argument("--keep-out-box", nargs=6, action="append", metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"),
                     help="a keep-out box for the tool point, base frame, file length unit (repeatable)")
-    _window_args(sp)
+    _window_args(sp, "seed of the planner (default 0; the windows do not depend on it)")
     sp.add_argument("--planner", default="RRTConnect", help="OMPL planner (RRTConnect, RRT*, PRM*, BIT*, ...)")
     sp.add_argument("--time-limit", type=bounded(0, MAX_TIME_LIMIT, "s", open_low=True), default=2.0,
                     metavar="S", help=f"planning time limit, s (default 2, at most {MAX_TIME_LIMIT:g})")
@@ -222,7 +224,7 @@ def add_commands(add) -> None:
     sp = add("check-path", cmd_check_path, "check a joint path (CSV) densely; exit 0 valid, 1 invalid")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
     sp.add_argument("path", metavar="PATH.csv", help="one configuration per row, robot file units")
-    _window_args(sp)
+    _window_args(sp, "accepted for symmetry with plan and ignored: the check uses no random numbers")
     sp.add_argument("--sigma-floor", type=bounded(0, MAX_SIGMA, "(SI)"), metavar="S",
                     help="fail where σ_min (SI) drops below S")
     sp.add_argument("--step", type=bounded(0, math.inf, "(robot file units)", open_low=True), metavar="D",

@@ -6,7 +6,7 @@ import math
 
 import kin
 from studies.cli.common import (MAX_SIGMA, CliInputError, bounded, dump, factor_margins, output_file,
-                                require_task_rows, seed)
+                                require_task_rows, seed, windows_from_args)
 
 #: the most joint-space samples ``rmt workspace`` takes
 MAX_SAMPLES = 10_000_000
@@ -99,14 +99,18 @@ def cmd_windows(args, load_robot) -> int:
     output_file(args.out)
     robot = require_task_rows(load_robot(args.robot))
     c = robot.chain
-    # margin and σ_min windows come from the analysis with the windows' own seed, whatever --seed says
-    analysis = _analyse(robot, args, seed=args.seed if args.learned else WINDOW_SEED)
     reports = None
-    if args.margin is not None:
-        ws = build_windows(robot, margin=factor_margins(c, analysis, args.margin), analysis=analysis)
-    elif args.sigma_min is not None:
-        ws = build_windows(robot, sigma_min=args.sigma_min, analysis=analysis)
+    if not args.learned and args.exact_timeout is None:     # as plan and check-path build them (cached)
+        ws = windows_from_args(robot, args.margin, args.sigma_min)
+    elif not args.learned:
+        # margin and σ_min windows come from the analysis with the windows' own seed, whatever --seed says
+        analysis = _analyse(robot, args, seed=WINDOW_SEED)
+        if args.margin is not None:
+            ws = build_windows(robot, margin=factor_margins(c, analysis, args.margin), analysis=analysis)
+        else:
+            ws = build_windows(robot, sigma_min=args.sigma_min, analysis=analysis)
     else:
+        analysis = _analyse(robot, args)
         if analysis.method != "exact":
             raise CliInputError(f"--learned needs the exact singular factors; the exact analysis of {c.name} did not "
                                 f"finish within --exact-timeout {args.exact_timeout:g} s (give more, or use "
