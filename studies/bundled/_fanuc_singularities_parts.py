@@ -53,15 +53,17 @@ def dh_jacobian(dh: list[tuple[float, float, float]], q, point=None) -> np.ndarr
 
 
 # ---- σ_min across the windows ---------------------------------------------------------------------
-def factor_distance(factor, Q: np.ndarray) -> np.ndarray:
+def factor_distance(factor, Q: np.ndarray, limits) -> np.ndarray:
     """Joint-space distance (rad) of configurations from a factor's zero set, in its window's metric:
-    the distance to the nearest singular value for a one-joint factor, |g| / max‖∇g‖ otherwise."""
+    the distance to the nearest singular value for a one-joint factor, |g| / G otherwise, G the
+    window's proven bound of ‖∇g‖ over the joint limits (:mod:`planning.windows`)."""
     j = factor.single_joint
     if j is not None:
         roots = np.asarray(factor.solutions.get("values", []), float)
         return np.abs(Q[:, j][:, None] - roots[None, :]).min(axis=1)
-    gmax = float(np.linalg.norm(factor.gradient(factor.samples), axis=1).max())
-    return np.abs(factor(Q)) / gmax
+    from planning.windows.build import factor_gradient_bound
+    G = factor_gradient_bound(factor.expr, factor.n, tuple(map(float, limits[0])), tuple(map(float, limits[1])))[0]
+    return np.abs(factor(Q)) / G
 
 
 def plot_sigma_across_windows(robot, factors, window_sets: dict, trusted, threshold: float, samples: int,
@@ -82,7 +84,7 @@ def plot_sigma_across_windows(robot, factors, window_sets: dict, trusted, thresh
         for i, w in enumerate(trusted.windows):
             if i != k:
                 others |= w.contains(Q)
-        d, s = factor_distance(f, Q[~others]), sig[~others]
+        d, s = factor_distance(f, Q[~others], (robot.chain.lower, robot.chain.upper)), sig[~others]
         x_max = float(np.quantile(d, 0.98))
         keep = d <= x_max
         d, s = d[keep], s[keep]

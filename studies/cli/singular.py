@@ -90,6 +90,13 @@ def _windows_text(robot: kin.Robot, ws) -> str:
             lines.append(f"  {w.name}\n      within {w.width:.6g} SI of {len(w.points)} sampled points   ({w.method})")
         else:
             lines.append(f"  {w.name}\n      |g(q)| ≤ {w.epsilon:.6g}   (half-width ≥ {w.width:.6g} SI, {w.method})")
+    floor = next((w.detail["floor"] for w in ws.windows if isinstance(w.detail.get("floor"), dict)), None)
+    if floor:
+        lines.append(f"  {floor['measure']} ≥ {floor['threshold']:g} outside the windows is sampled, not proven: "
+                     f"{floor['below_threshold_outside']} of {floor['fresh_samples']} fresh configurations fall below")
+    if any(getattr(w, "is_point_set", False) for w in ws.windows):
+        lines.append("  point-set windows are sampled: they hold the set as far as its samples show, and no path "
+                     "near them is called proven")
     return "\n".join(lines)
 
 

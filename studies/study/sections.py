@@ -107,14 +107,31 @@ def windows_table(s: Study, robot: kin.Robot, windows, label: str, caption: str 
         share = float(np.mean(w.contains(Q)))
         d["share_of_joint_space"] = share
         rows.append([w.name, w.kind, where, w.width / scale if w.is_interval else w.width, share * 100 if share
-                     is not None else None])
+                     is not None else None, _proof(w)])
         out.append(d)
-    s.table(["window", "kind", "where", "half-width (file units)", "share of joint space (%)"], rows,
-            caption or f"Windows ({label}).", fmt=".4g")
+    s.table(["window", "kind", "where", "half-width (file units)", "share of joint space (%)", "how it is known"],
+            rows, caption or f"Windows ({label}).", fmt=".4g")
+    floor = next((w.detail["floor"] for w in windows.windows if isinstance(w.detail.get("floor"), dict)), None)
+    if floor:
+        s.text(f"The widths come from a dexterity threshold ({floor['measure']} ≥ {floor['threshold']:g}), found by "
+               f"sampling: the floor outside the windows is sampled, not proven. On {floor['fresh_samples']} fresh "
+               f"configurations, {floor['below_threshold_outside']} lie outside every window below the threshold.")
     total = float(np.mean(windows.contains(Q)))
     res = {"label": label, "windows": out, "share_of_joint_space": total}
     s.results.setdefault("windows", {})[key or label] = res
     return res
+
+
+def _proof(w) -> str:
+    """How a window is known, in a few words for a table."""
+    proof = str(w.detail.get("proof", ""))
+    if proof.startswith("exact"):
+        return "exact roots"
+    if proof == "interval bound":
+        return f"proven: ε = width × {w.detail['grad_norm_bound']:.4g} (bound of ‖∇g‖)"
+    if proof.startswith("sampled"):
+        return "sampled points"
+    return "—"
 
 
 def workspace(s: Study, robot: kin.Robot, samples: int, seed: int = 0, title: str = "", name: str = "workspace",
