@@ -26,6 +26,7 @@ bench: $(STAMP)
 	$(BIN)/python -m studies.benchmarks.bench_kin
 	$(BIN)/python -m studies.benchmarks.bench_ik
 	$(BIN)/python -m studies.benchmarks.bench_plan
+	$(BIN)/python -m studies.benchmarks.bench_startup
 	$(BIN)/python -m studies.benchmarks.bench_timing
 	$(BIN)/python -m studies.benchmarks.bench_design
 	$(BIN)/python -m studies.benchmarks.bench_sweep
