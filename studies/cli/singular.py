@@ -88,6 +88,10 @@ def _windows_text(robot: kin.Robot, ws) -> str:
             lines.append(f"  {w.name}\n      q{j} ∈ {ivs or '∅'} {unit}   (half-width {w.width:.6g} SI, {w.method})")
         elif getattr(w, "is_point_set", False):
             lines.append(f"  {w.name}\n      within {w.width:.6g} SI of {len(w.points)} sampled points   ({w.method})")
+            miss = w.detail.get("miss") or {}
+            if miss.get("fresh_set_points"):
+                lines.append(f"      sampled: {miss['outside_window']} of {miss['fresh_set_points']} fresh points of the "
+                             f"set lie outside it (farthest {miss['largest_distance']:.3g} SI from a sample)")
         else:
             lines.append(f"  {w.name}\n      |g(q)| ≤ {w.epsilon:.6g}   (half-width ≥ {w.width:.6g} SI, {w.method})")
     floor = next((w.detail["floor"] for w in ws.windows if isinstance(w.detail.get("floor"), dict)), None)

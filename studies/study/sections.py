@@ -130,6 +130,10 @@ def _proof(w) -> str:
     if proof == "interval bound":
         return f"proven: ε = width × {w.detail['grad_norm_bound']:.4g} (bound of ‖∇g‖)"
     if proof.startswith("sampled"):
+        miss = w.detail.get("miss") or {}
+        if miss.get("fresh_set_points"):
+            return (f"sampled points: {miss['outside_window']} of {miss['fresh_set_points']} fresh points of the set "
+                    "outside")
         return "sampled points"
     return "—"
 

@@ -79,6 +79,12 @@ def test_windows_of_a_numeric_analysis_do_not_follow_the_seed(capsys):
     d = json.loads(outs[0])
     assert d["windows"] and all(w["type"] == "points" and w["detail"]["proof"].startswith("sampled")
                                 for w in d["windows"])
+    # each says how many fresh points of its set it misses (measured, not assumed)
+    for w in d["windows"]:
+        m = w["detail"]["miss"]
+        assert m["fresh_set_points"] > 0 and 0 <= m["outside_window"] <= m["fresh_set_points"]
+        assert m["miss_rate"] == pytest.approx(m["outside_window"] / m["fresh_set_points"])
+        assert (m["outside_window"] > 0) == (m["largest_distance"] > w["width"])
 
 
 # ---- every returned path is accepted, for every seed ------------------------------------------------
