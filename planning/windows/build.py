@@ -88,9 +88,10 @@ def window_for_factor(factor: SingularFactor | SingularComponent, width: float, 
     G, attained, converged, empty = bound
     if empty:   # zero set proven outside the limits: an empty window
         return Window(name, factor.kind, factor.expr, factor.joints, float(width), method, n, epsilon=-1.0,
-                      detail={**detail, "note": "zero set outside the joint limits (proven)"})
-    detail.update({"proof": "interval bound", "rule": EPSILON_RULE, "grad_norm_bound": G, "grad_norm_attained": attained,
-                   "bound_converged": converged})
+                      detail={**detail, "proof": "interval bound",
+                              "note": "zero set outside the joint limits (proven: g has no zero there)"})
+    detail.update({"proof": "interval bound", "rule": EPSILON_RULE, "grad_norm_bound": G,
+                   "grad_norm_attained": attained, "bound_converged": converged})
     return Window(name, factor.kind, factor.expr, factor.joints, float(width), method, n, epsilon=float(width * G),
                   detail=detail)
 
@@ -105,11 +106,12 @@ def factor_gradient_bound(expr: str, n: int, lower: tuple[float, ...],
     from kin.singular.expression import parse_expression
     g = parse_expression(expr, n, "singular factor")
     try:
-        empty = zero_free(g, n, lower, upper)
+        if zero_free(g, n, lower, upper):
+            return 0.0, 0.0, True, True
         b = gradient_bound(g, n, lower, upper)
     except IntervalError:
         return None
-    return b.bound, b.attained, b.converged, empty
+    return b.bound, b.attained, b.converged, False
 
 
 #: fresh starts projected onto the singular set to measure a point-set window's miss rate
@@ -314,9 +316,10 @@ def _canonical(robot, analysis: SingularityAnalysis | None, needs_samples: bool)
     bad = [f for f in analysis.factors if getattr(f, "n", None) != robot.n
            or not all(isinstance(j, (int, np.integer)) and 1 <= j <= robot.n for j in f.joints)]
     if analysis.robot != robot.name or bad:
-        raise WindowError(f"analysis is of {analysis.robot!r} ({bad[0].n if bad else '?'} joints), not of "
-                          f"{robot.name!r} ({robot.n} joints): pass the analysis of the same robot, or none")
-    if needs_samples and (getattr(analysis, "seed", None), getattr(analysis, "samples", None)) != (WINDOW_SEED, WINDOW_SAMPLES):
+        joints = f" ({bad[0].n} joints)" if bad else ""
+        raise WindowError(f"analysis is of {analysis.robot!r}{joints}, not of {robot.name!r} ({robot.n} joints): "
+                          "pass the analysis of the same robot, or none")
+    if needs_samples and (analysis.seed, analysis.samples) != (WINDOW_SEED, WINDOW_SAMPLES):
         return analyse_singularities(robot, samples=WINDOW_SAMPLES, seed=WINDOW_SEED)
     return analysis
 
@@ -334,7 +337,7 @@ def build_windows(robot, margin: float | Sequence[float] | None = None, sigma_mi
     if sum(given) != 1:
         raise WindowError("give exactly one window width source: margin, sigma_min or manipulability")
     dexterity = margin is None
-    analysis = _canonical(robot, analysis, dexterity or (analysis is not None and analysis.method != "exact"))
+    analysis = _canonical(robot, analysis, dexterity or getattr(analysis, "method", "exact") != "exact")
     lo, hi = robot.chain.lower, robot.chain.upper
     factors = analysis.factors
     if margin is not None:

@@ -360,3 +360,27 @@ def test_membership_is_vectorised_and_matches_a_loop(name):
     assert W.membership(q).shape == (1, k) and W.which(q).shape == (1,)
     assert isinstance(W.contains(q), bool) and W.contains(q) == bool(loop_M[0].any())
     assert isinstance(W.windows[0].contains(q), bool)
+
+
+def test_another_robots_analysis_is_refused_with_a_typed_error():
+    fanuc, _ = analysed("fanuc_m16ib20")
+    _, puma_analysis = analysed("puma560")
+    with pytest.raises(WindowError, match="analysis is of 'puma560'.*not of 'fanuc_m16ib20'"):
+        build_windows(fanuc, margin=0.05, analysis=puma_analysis)
+    scara, scara_analysis = analysed("scara_rrp")
+    with pytest.raises(WindowError, match="analysis is of 'scara_rrp' \\(3 joints\\), not of 'fanuc_m16ib20'"):
+        build_windows(fanuc, margin=0.05, analysis=scara_analysis)
+    with pytest.raises(WindowError, match="analysis must be a SingularityAnalysis"):
+        build_windows(fanuc, margin=0.05, analysis={"factors": []})
+
+
+def test_windows_do_not_depend_on_the_analysis_seed_or_sample_count():
+    robot, A = analysed("fanuc_m16ib20")
+    ref = json.dumps(build_windows(robot, margin=0.05, analysis=A).to_dict())
+    for seed, samples in ((3, 200), (10, 37)):
+        other = analyse_singularities(robot, seed=seed, samples=samples)
+        assert json.dumps(build_windows(robot, margin=0.05, analysis=other).to_dict()) == ref
+    # dexterity margins are sampled: they come from the windows' own samples whatever analysis is passed
+    d_ref = json.dumps(build_windows(robot, sigma_min=0.02, analysis=A).to_dict())
+    other = analyse_singularities(robot, seed=3, samples=60)
+    assert json.dumps(build_windows(robot, sigma_min=0.02, analysis=other).to_dict()) == d_ref
