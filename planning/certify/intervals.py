@@ -2,14 +2,18 @@
 
 A singular factor g is a sum of products of numbers, sin and cos of linear combinations of the
 joint variables (and, for prismatic joints, the joint variables themselves).  :func:`compile_interval`
-turns its sympy expression into a function that takes a batch of boxes in joint space, ``lo`` and
-``hi`` of shape (B, n), and returns ``(glo, ghi)`` of shape (B,) with glo ≤ g(q) ≤ ghi for every q
-in each box.  The enclosure is rigorous up to floating-point rounding, which is covered by widening
-every result by a few ulps of its magnitude (see :data:`ROUNDING`), and the results of sin and cos
-by a few ulps of their argument's magnitude.
+turns its expression tree (:mod:`kin.singular.tree`, as read by
+:func:`kin.singular.expression.parse_tree`) or its sympy expression (converted to a tree first)
+into a function that takes a batch of boxes in joint space, ``lo`` and ``hi`` of shape (B, n), and
+returns ``(glo, ghi)`` of shape (B,) with glo ≤ g(q) ≤ ghi for every q in each box.  The enclosure
+is rigorous up to floating-point rounding, which is covered by widening every result by a few ulps
+of its magnitude (see :data:`ROUNDING`), and the results of sin and cos by a few ulps of their
+argument's magnitude.
 
-Supported nodes: numbers, symbols q1…qn, ``+``, ``*``, integer powers, ``sin``, ``cos``; anything
-else raises :class:`IntervalError` (the caller then falls back to sampling and says so).
+Supported nodes: numbers, symbols q1…qn, ``+``, ``*``, non-negative integer powers, ``sin``,
+``cos``; anything else (a division, a negative power) raises :class:`IntervalError` (the caller then
+falls back to sampling and says so).  This module does not import sympy: a sympy expression is
+only converted (:mod:`kin.singular.tree_sympy`) when one is given.
 """
 from __future__ import annotations
 
@@ -17,7 +21,8 @@ import math
 from typing import Callable
 
 import numpy as np
-import sympy as sp
+
+from kin.singular.tree import Add, Cos, Mul, Node, Num, Pow, Sin, Var
 
 from planning.errors import PlanningError
 
@@ -78,53 +83,73 @@ def _pow(lo, hi, k: int):
     return _widen(low, np.maximum(a, b))
 
 
-def compile_interval(expr: sp.Expr, symbols: tuple[sp.Symbol, ...]) -> IntervalFn:
-    """An interval evaluator of ``expr`` over boxes in the variables ``symbols`` (see the module
-    docstring).  Raises :class:`IntervalError` for an unsupported node."""
-    index = {s: i for i, s in enumerate(symbols)}
+def _tree(expr, symbols) -> Node:
+    """The tree of a sympy expression (expanded when it is a sum, as the factors are printed), or
+    :class:`IntervalError` for what a tree cannot hold."""
+    import sympy as sp
 
-    def build(e) -> IntervalFn:
-        if e.is_Number:
-            v = float(e)
-            if not math.isfinite(v):
-                raise IntervalError(f"non-finite number {e} in a factor")
-            return lambda lo, hi, v=v: _widen(np.full(len(lo), v), np.full(len(lo), v))
-        if e.is_Symbol:
-            if e not in index:
-                raise IntervalError(f"unknown variable {e} in a factor")
-            i = index[e]
-            return lambda lo, hi, i=i: (lo[:, i], hi[:, i])
-        if e.is_Add:
-            parts = [build(a) for a in e.args]
+    from kin.singular.expression import ExpressionError
+    from kin.singular.tree_sympy import from_sympy
+    if symbols is None:
+        raise IntervalError("a sympy expression needs its variables (symbols q1…qn)")
+    try:
+        return from_sympy(sp.expand(expr, trig=False) if expr.is_Add else expr, tuple(symbols))
+    except ExpressionError as e:
+        raise IntervalError(str(e)) from None
 
-            def add(lo, hi, parts=parts):
-                rs = [p(lo, hi) for p in parts]
-                return _widen(sum(r[0] for r in rs), sum(r[1] for r in rs))
-            return add
-        if e.is_Mul:
-            parts = [build(a) for a in e.args]
 
-            def mul(lo, hi, parts=parts):
-                alo, ahi = parts[0](lo, hi)
-                for p in parts[1:]:
-                    blo, bhi = p(lo, hi)
-                    alo, ahi = _mul(alo, ahi, blo, bhi)
-                return alo, ahi
-            return mul
-        if e.is_Pow:
-            base, ex = e.args
-            if not (ex.is_Integer and int(ex) >= 0):
-                raise IntervalError(f"power {ex} in a factor (only non-negative integer powers are supported)")
-            b = build(base)
-            k = int(ex)
-            return lambda lo, hi, b=b, k=k: _pow(*b(lo, hi), k)
-        if isinstance(e, (sp.sin, sp.cos)):
-            inner = build(e.args[0])
-            f = sin_interval if isinstance(e, sp.sin) else cos_interval
-            return lambda lo, hi, inner=inner, f=f: f(*inner(lo, hi))
-        raise IntervalError(f"unsupported operation {type(e).__name__} in a factor")
+def _build(e: Node, n: int | None) -> IntervalFn:
+    if isinstance(e, Num):
+        v = float(e.value)
+        if not math.isfinite(v):
+            raise IntervalError(f"non-finite number {v} in a factor")
+        return lambda lo, hi: _widen(np.full(len(lo), v), np.full(len(lo), v))
+    if isinstance(e, Var):
+        i = e.index
+        if n is not None and not 0 <= i < n:
+            raise IntervalError(f"unknown variable q{i + 1} in a factor of {n} variables")
+        return lambda lo, hi: (lo[:, i], hi[:, i])
+    if isinstance(e, Add):
+        parts = [_build(a, n) for a in e.terms]
 
-    fn = build(sp.expand(expr, trig=False) if expr.is_Add else expr)
+        def add(lo, hi):
+            rs = [p(lo, hi) for p in parts]
+            return _widen(sum(r[0] for r in rs), sum(r[1] for r in rs))
+        return add
+    if isinstance(e, Mul):
+        parts = [_build(a, n) for a in e.factors]
+
+        def mul(lo, hi):
+            alo, ahi = parts[0](lo, hi)
+            for p in parts[1:]:
+                blo, bhi = p(lo, hi)
+                alo, ahi = _mul(alo, ahi, blo, bhi)
+            return alo, ahi
+        return mul
+    if isinstance(e, Pow):
+        if e.exp < 0:
+            raise IntervalError(f"power {e.exp} in a factor (only non-negative integer powers are supported)")
+        b, k = _build(e.base, n), e.exp
+        return lambda lo, hi: _pow(*b(lo, hi), k)
+    if isinstance(e, (Sin, Cos)):
+        inner = _build(e.arg, n)
+        f = sin_interval if isinstance(e, Sin) else cos_interval
+        return lambda lo, hi: f(*inner(lo, hi))
+    raise IntervalError(f"unsupported operation {type(e).__name__} in a factor")
+
+
+def compile_interval(expr, symbols=None) -> IntervalFn:
+    """An interval evaluator of ``expr`` over boxes (see the module docstring): ``expr`` a tree
+    (:mod:`kin.singular.tree`; ``symbols``, when given, only sets the number of variables) or a
+    sympy expression in the variables ``symbols`` (q1…qn in the boxes' column order; a sum is
+    expanded first).  Raises :class:`IntervalError` for an unsupported node."""
+    if isinstance(expr, Node):
+        tree = expr
+        n = None if symbols is None else len(symbols)
+    else:
+        tree = _tree(expr, symbols)
+        n = len(symbols)
+    fn = _build(tree, n)
 
     def evaluate(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         lo = np.asarray(lo, dtype=float)
