@@ -11,9 +11,9 @@ projections lie in one connected piece of that group's free set.
   from every one on the other.
 * A group of two or three joints is covered by a grid of cells over its joint limits.  A cell is
   *blocked* only when interval arithmetic proves it lies wholly inside one window
-  (:mod:`planning.certify.intervals`); the unblocked cells, joined through faces, edges and corners,
-  hold the whole free set.  If the start's and the goal's cells are in different components of the
-  unblocked cells, no joint path exists — a proof, whatever the grid's resolution (a coarser grid
+  (:mod:`planning.certify.intervals`); the unblocked cells, joined through faces, edges and corners
+  (labelled by :func:`label_cells`), hold the whole free set.  If the start's and the goal's cells
+  are in different components of the unblocked cells, no joint path exists — a proof, whatever the grid's resolution (a coarser grid
   only proves less).
 * Larger groups, and windows whose expression interval arithmetic does not support, are left out —
   leaving a window out only enlarges the set searched, so every verdict stays sound.
@@ -24,16 +24,16 @@ left to the planner).
 """
 from __future__ import annotations
 
+import itertools
 import weakref
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
 
 from planning.certify.intervals import IntervalError, compile_interval
 from planning.certify.segments import _symbols, window_expression
 
-__all__ = ["FreeCells", "Separation", "GRID_CELLS", "free_cells", "joint_groups"]
+__all__ = ["FreeCells", "Separation", "GRID_CELLS", "free_cells", "joint_groups", "label_cells"]
 
 #: cells per axis of the grid for a group of 1, 2 or 3 joints
 GRID_CELLS = {1: 4096, 2: 256, 3: 48}
@@ -71,6 +71,53 @@ def joint_groups(windows) -> list[list[int]]:
     for j in sorted(parent):
         groups.setdefault(find(j), []).append(j)
     return sorted(groups.values())
+
+
+def label_cells(free: np.ndarray) -> np.ndarray:
+    """The connected components of the True cells of a boolean grid (any dimension), cells joined
+    through faces, edges and corners → int array of the grid's shape: 0 for a False cell, else the
+    component's number, 1, 2, … in the order of each component's first cell (C order) — the labels
+    of ``scipy.ndimage.label`` with a full 3×…×3 structure, without importing scipy.
+
+    Each line along the last axis is cut into runs of True cells (a run is connected); runs in
+    neighbouring lines are joined by union–find, vectorised: roots are hooked to the smallest root
+    they touch and paths compressed, until no pair is left (a few rounds).  Two runs touch exactly
+    when a cell next to one run's first cell belongs to the other, so only those pairs are looked at.
+    """
+    free = np.asarray(free, dtype=bool)
+    shape, d = free.shape, free.ndim
+    idx = np.arange(free.size).reshape(shape)
+    prev = np.zeros(shape, bool)
+    prev[..., 1:] = free[..., :-1]
+    start = free & ~prev
+    run = np.maximum.accumulate(np.where(start, idx, -1), axis=-1)      # each True cell's run start
+    us, vs = [np.zeros(0, int)], [np.zeros(0, int)]
+    for o in itertools.product((-1, 0, 1), repeat=d):
+        if o[:-1] <= (0,) * (d - 1):          # the other lines only, each pair of lines once
+            continue
+        a = tuple(slice(0, s - k) if k >= 0 else slice(-k, s) for k, s in zip(o, shape))
+        b = tuple(slice(k, s) if k >= 0 else slice(0, s + k) for k, s in zip(o, shape))
+        hit = free[a] & free[b] & (start[a] | start[b])
+        us.append(run[a][hit])
+        vs.append(run[b][hit])
+    u, v = np.concatenate(us), np.concatenate(vs)
+    parent = np.arange(free.size)
+    while len(u):
+        pu, pv = parent[u], parent[v]
+        keep = pu != pv
+        u, v, pu, pv = u[keep], v[keep], pu[keep], pv[keep]
+        if not len(u):
+            break
+        np.minimum.at(parent, np.maximum(pu, pv), np.minimum(pu, pv))     # hook roots: parent ≤ index
+        while True:
+            up = parent[parent]
+            if np.array_equal(up, parent):
+                break
+            parent = up
+    root = parent[run[free]]
+    out = np.zeros(shape, np.int32)
+    out[free] = np.searchsorted(np.unique(root), root) + 1
+    return out
 
 
 def _fmt(v: float) -> str:
@@ -140,7 +187,7 @@ class FreeCells:
                 blocked |= (glo >= -w.epsilon) & (ghi <= w.epsilon)
                 used.append(w.name)
             free = ~blocked.reshape((R,) * d)
-            labels, _ = ndimage.label(free, structure=np.ones((3,) * d, int))
+            labels = label_cells(free)
             result = (labels, np.array(edges), free, used)
         self._grids[js] = result
         return result
