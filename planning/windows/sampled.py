@@ -4,23 +4,26 @@ numeric analysis of :mod:`kin.singular.numeric`).
 A :class:`PointSetWindow` holds points of the component in the coordinates of the joints the
 component depends on (moving any other joint never leaves the set) and contains every
 configuration whose distance to the nearest point, over those joints, is at most ``width`` (SI:
-rad, m).  Nearest points come from a KD-tree (scipy).  With ``normals`` (a hypersurface), each
-point stands for the disc of its ``radius`` around it in the set's tangent plane, and the distance is
-to the nearest disc (:func:`kin.singular.numeric.sampled_distance`).  The window is only as fine as its samples:
-``detail["resolution"]`` is the estimated largest distance from the set to its nearest sample, so
-the window holds at least the (width − resolution)-neighbourhood of the set.
+rad, m).  Nearest points come from a KD-tree (scipy, imported when a window first measures a
+distance, so that loading and using other windows does not import it).  With ``normals`` (a
+hypersurface), each point stands for the disc of its ``radius`` around it in the set's tangent
+plane, and the distance is to the nearest disc (:func:`kin.singular.numeric.sampled_distance`).
+The window is only as fine as its samples: ``detail["resolution"]`` is the estimated largest
+distance from the set to its nearest sample, so the window holds at least the
+(width − resolution)-neighbourhood of the set.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.spatial import cKDTree
-
-from kin.singular.numeric import sampled_distance
 
 from planning.errors import WindowError
+
+if TYPE_CHECKING:
+    from scipy.spatial import cKDTree
 
 #: most points a window file may hold
 MAX_POINTS = 1_000_000
@@ -73,7 +76,9 @@ class PointSetWindow:
 
     @property
     def tree(self) -> cKDTree:
+        """The KD-tree of ``points`` (built, and scipy.spatial imported, on first use)."""
         if self._tree is None:
+            from scipy.spatial import cKDTree
             self._tree = cKDTree(self.points)
         return self._tree
 
@@ -89,6 +94,7 @@ class PointSetWindow:
         Q2, _ = self._batch(Q)
         if len(self.points) == 0:
             return np.full(len(Q2), np.inf)
+        from kin.singular.numeric import sampled_distance      # the numeric analysis: only when used
         return sampled_distance(self.tree, self.normals, self.radius, Q2[:, [j - 1 for j in self.joints]])
 
     def contains(self, Q) -> np.ndarray:
