@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planning.certify.intervals import IntervalError, compile_interval
-from planning.certify.segments import _symbols, window_expression
+from planning.certify.segments import window_expression
 
 __all__ = ["FreeCells", "Separation", "GRID_CELLS", "free_cells", "joint_groups", "label_cells"]
 
@@ -169,7 +169,6 @@ class FreeCells:
                 hi[:, j] = edges[c][idx[:, c] + 1]
             blocked = np.zeros(len(idx), bool)
             used = []
-            syms = _symbols(self.n)
             for w in ws:
                 if w.is_interval:
                     j = w.joint
@@ -180,7 +179,7 @@ class FreeCells:
                 if getattr(w, "epsilon", None) is None:
                     continue                    # a point-set window: left out, the verdict stays sound
                 try:
-                    fn = compile_interval(window_expression(w), syms)
+                    fn = compile_interval(window_expression(w))
                 except IntervalError:
                     continue                    # left out: the verdict stays sound
                 glo, ghi = fn(lo, hi)

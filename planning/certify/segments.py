@@ -19,9 +19,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-import sympy as sp
 
-from kin.singular.expression import joint_symbols, parse_expression
+from kin.singular.expression import parse_tree
+from kin.singular.tree import Node
 
 from planning.certify.intervals import IntervalError, compile_interval
 
@@ -62,14 +62,11 @@ class PathProof:
     methods: dict[str, str] = field(default_factory=dict)
 
 
-def _symbols(n: int) -> tuple[sp.Symbol, ...]:
-    return joint_symbols(n)
-
-
-def window_expression(window) -> sp.Expr:
-    """The sympy expression of a non-interval window's factor g (in q1…qn), parsed by the safe
-    grammar of :mod:`kin.singular.expression`."""
-    return parse_expression(window.expr, window.n, f"window {window.name!r}")
+def window_expression(window) -> Node:
+    """The expression tree of a non-interval window's factor g (in q1…qn; :mod:`kin.singular.tree`),
+    read by the safe grammar of :mod:`kin.singular.expression` (the window's own when it has one)."""
+    tree = None if getattr(window, "is_point_set", False) else getattr(window, "tree", None)
+    return tree if isinstance(tree, Node) else parse_tree(window.expr, window.n, f"window {window.name!r}")
 
 
 def _interval_window(window, P: np.ndarray) -> SegmentViolation | None:
@@ -170,7 +167,6 @@ def certify_path(windows, path, max_depth: int = MAX_DEPTH, max_pieces: int = MA
         return proof
     if len(P) == 1:
         P = np.vstack([P, P])
-    syms = _symbols(windows.n)
     violations = []
     for w in windows.windows:
         if w.is_interval:
@@ -184,7 +180,7 @@ def certify_path(windows, path, max_depth: int = MAX_DEPTH, max_pieces: int = MA
             proof.unproven.extend((k, w.name) for k in range(len(P) - 1))
             continue
         try:
-            fn = compile_interval(window_expression(w), syms)
+            fn = compile_interval(window_expression(w))
         except IntervalError:
             proof.methods[w.name] = "sampled"
             proof.unproven.extend((k, w.name) for k in range(len(P) - 1))

@@ -1,17 +1,20 @@
 """Window barriers of the path follower (:func:`planning.follow.follow_path`): the signed margin
 d_w(q) of one singular error window (> 0 outside; joint distance for an interval window, |g| − ε for
 a predicate window, with gradient sign(g)·∇g) and its buffer m_w, from which the follower builds the
-window's constraint row ∇d_w(q_k)·q̇·Δt ≥ −γ·(d_w(q_k) − m_w).
+window's constraint row ∇d_w(q_k)·q̇·Δt ≥ −γ·(d_w(q_k) − m_w).  A predicate window's g and its
+partial derivatives are scalar closures of its expression tree (:mod:`kin.singular.tree`,
+:mod:`kin.singular.evaluate`): no sympy.
 """
 from __future__ import annotations
 
 import math
 
 import numpy as np
-import sympy as sp
 
-from kin.singular.expression import parse_expression
+from kin.singular.evaluate import scalar_function
+from kin.singular.tree import derivative
 
+from planning.certify.segments import window_expression
 from planning.windows import Window
 
 
@@ -34,11 +37,9 @@ class _Barrier:
             self.joints = [j - 1 for j in w.joints]
             self.empty = w.epsilon is None or w.epsilon < 0
             self.m = buffer * max(w.epsilon or 0.0, 0.0)
-            q = sp.symbols(f"q1:{n + 1}", real=True)
-            expr = parse_expression(w.expr, n, f"window {w.name!r}")
-            self._g = sp.lambdify([q], expr, modules="math")
-            grads = [sp.diff(expr, q[j]) for j in self.joints]
-            self._dg = sp.lambdify([q], grads, modules="math")
+            tree = window_expression(w)
+            self._g = scalar_function(tree)
+            self._dg = [scalar_function(derivative(tree, j)) for j in self.joints]
 
     def __call__(self, q: np.ndarray) -> tuple[float, np.ndarray]:
         """(d, ∂d/∂q over ``self.joints``)."""
@@ -56,6 +57,6 @@ class _Barrier:
             return self.window.margin_and_gradient(q)
         ql = [float(v) for v in q]
         g = float(self._g(ql))
-        dg = np.asarray(self._dg(ql), dtype=float)
+        dg = np.array([d(ql) for d in self._dg], dtype=float)
         s = 1.0 if g >= 0 else -1.0
         return abs(g) - float(self.window.epsilon), s * dg

@@ -1,8 +1,9 @@
 """State and motion validity in joint space: limits, singular windows, a σ_min floor, keep-out boxes.
 
 :class:`JointSpaceChecker` answers OMPL's two questions.  ``state_valid`` is on the planner's hot
-path and works on plain Python floats (interval windows are interval tests, other windows a
-scalar formula; σ_min only when a floor is set).  ``motion_valid`` checks a straight motion:
+path and works on plain Python floats (interval windows are interval tests, other windows the
+scalar closure of their expression tree, :func:`kin.singular.evaluate.scalar_function`; σ_min only
+when a floor is set).  ``motion_valid`` checks a straight motion:
 its end states, the interval windows and limits exactly, and the other constraints as one numpy
 batch at a joint step finer than the narrowest window, so no window can be jumped.
 """
@@ -12,10 +13,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import sympy as sp
 
-from kin.singular.expression import parse_expression
+from kin.singular.evaluate import scalar_function
 
+from planning.certify.segments import window_expression
 from planning.errors import PlanningError
 
 MAX_MOTION_STEP_ANGLE = math.radians(1.0)
@@ -57,7 +58,6 @@ class JointSpaceChecker:
         if windows is not None:
             if windows.n != self.n:
                 raise PlanningError(f"windows are for a {windows.n}-joint robot; {self.chain.name} has {self.n} joints")
-            q = sp.symbols(f"q1:{self.n + 1}", real=True)
             for w in windows.windows:
                 revolute = any(self.revolute[j - 1] for j in w.joints)
                 (widths_rev if revolute else widths_len).append(2 * w.width if w.width > 0 else math.inf)
@@ -67,8 +67,7 @@ class JointSpaceChecker:
                     self._predicates.append((w.excess, 0.0))
                     self._predicate_windows.append(w)
                 else:
-                    expr = parse_expression(w.expr, self.n, f"window {w.name!r}")
-                    self._predicates.append((sp.lambdify([q], expr, modules="math"), float(w.epsilon)))
+                    self._predicates.append((scalar_function(window_expression(w)), float(w.epsilon)))
                     self._predicate_windows.append(w)
         # the motion step: a fifth of the narrowest window, at most 1° / 1 mm
         self.step_angle = min(MAX_MOTION_STEP_ANGLE, min(widths_rev) / 5)

@@ -10,12 +10,12 @@ from pathlib import Path
 from typing import Callable
 
 import numpy as np
-import sympy as sp
-
 
 from kin.errors import ConfigurationError
 from kin.output import write_output
-from kin.singular.expression import ExpressionError, parse_expression
+from kin.singular.evaluate import batch_function
+from kin.singular.expression import ExpressionError, parse_tree
+from kin.singular.tree import Node
 
 from planning.errors import WindowError
 from planning.windows.sampled import PointSetWindow, is_point_set_entry
@@ -57,6 +57,7 @@ class Window:
     epsilon: float | None = None
     detail: dict = field(default_factory=dict)
     _g: Callable | None = field(default=None, repr=False, compare=False)
+    _tree: Node | None = field(default=None, repr=False, compare=False)
 
     @property
     def is_interval(self) -> bool:
@@ -67,13 +68,18 @@ class Window:
         """0-based joint of an interval window."""
         return self.joints[0] - 1 if self.is_interval else None
 
+    @property
+    def tree(self) -> Node:
+        """The factor's expression tree (:mod:`kin.singular.tree`), read once from ``expr`` by the
+        safe grammar of :mod:`kin.singular.expression`."""
+        if self._tree is None:
+            self._tree = parse_tree(self.expr, self.n, f"window {self.name!r}")
+        return self._tree
+
     def g(self, Q: np.ndarray) -> np.ndarray:
         """The factor at a batch (N, n) → (N,)."""
         if self._g is None:
-            q = sp.symbols(f"q1:{self.n + 1}", real=True)
-            expr = parse_expression(self.expr, self.n, f"window {self.name!r}")
-            f = sp.lambdify([q], expr, modules="numpy")
-            self._g = lambda Q: np.broadcast_to(np.asarray(f(Q.T), dtype=float), (Q.shape[0],))
+            self._g = batch_function(self.tree)
         return self._g(Q)
 
     def contains(self, Q) -> np.ndarray:
@@ -142,7 +148,7 @@ class Window:
         if width < 0:
             raise WindowError(f"{label}: width {width} must be ≥ 0 (rad or m)")
         try:
-            parse_expression(d["expr"], n, f"{label}: expr")
+            tree = parse_tree(d["expr"], n, f"{label}: expr")
         except ExpressionError as e:
             raise WindowError(str(e)) from None
         intervals = epsilon = None
@@ -166,7 +172,7 @@ class Window:
         if not isinstance(detail, dict):
             raise WindowError(f"{label}: detail must be a JSON object")
         return cls(name=name, kind=d["kind"], expr=d["expr"], joints=tuple(joints), width=width,
-                   method=d["method"], n=n, intervals=intervals, epsilon=epsilon, detail=dict(detail))
+                   method=d["method"], n=n, intervals=intervals, epsilon=epsilon, detail=dict(detail), _tree=tree)
 
 
 @dataclass
