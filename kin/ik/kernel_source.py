@@ -89,7 +89,10 @@ static double rmtik_residual(const rmtik_opts* o, const double* q, const double*
   double T[16], J[6 * RMT_N];                       /* column-major, as CasADi writes them */
   rmtik_fk(q, p, T, J);
   e[0] = pt[0] - T[12]; e[1] = pt[1] - T[13]; e[2] = pt[2] - T[14];
-  *pe = sqrt(e[0]*e[0] + e[1]*e[1] + e[2]*e[2]);
+  double s2 = e[0]*e[0] + e[1]*e[1] + e[2]*e[2];
+  /* beyond ~1e154 m the squares overflow (the cost is then +inf and no step is taken): the
+     position error itself is still reported, without overflow */
+  *pe = s2 < INFINITY ? sqrt(s2) : hypot(hypot(e[0], e[1]), e[2]);
   for (int r = 0; r < 3; ++r) for (int c = 0; c < RMT_N; ++c) Jw[r*RMT_N + c] = J[c*6 + r];
   if (!o->pose) {{ *oe = 0.0; return e[0]*e[0] + e[1]*e[1] + e[2]*e[2]; }}
   double Re[9];                                      /* Rt · Rᵀ, row-major; R(i,j) = T[j*4 + i] */
@@ -286,7 +289,11 @@ int rmtik_solve(const double* pt, const double* Rt, const double* p, long long p
       total += rmtik_run(&o, pp, tp, tR, cur, &cpe, &coe);
       ok = cpe <= tol_p && coe <= tol_o;
       double res = cpe + coe * w;
-      if (ok || res < bres) {{ memcpy(best, cur, sizeof cur); bpe = cpe; boe = coe; bres = res; }}
+      /* the first start is always kept: best is defined even when no residual is finite (a target
+         so far away that its error overflows) */
+      if (k == 0 || ok || res < bres) {{
+        memcpy(best, cur, sizeof cur); bpe = cpe; boe = coe; bres = res == res ? res : INFINITY;
+      }}
     }}
     if (!ok && bres < INFINITY) {{   /* out of reach (or not found): settle the best start into its minimum */
       rmtik_opts os = o;

@@ -55,10 +55,12 @@ def _targets(T, n_targets_hint: str) -> tuple[np.ndarray, np.ndarray | None, boo
         raise ConfigurationError("IK target holds NaN or infinite values")
     if R is not None and len(R):
         A = arr.reshape(-1, 4, 4)
-        orth = np.abs(np.einsum("kji,kjl->kil", R, R) - np.eye(3)).max(axis=(1, 2))
-        det = np.abs(np.linalg.det(R) - 1.0)
+        # huge entries overflow to inf or NaN, and NaN compares False: "not within tolerance" refuses both
+        with np.errstate(over="ignore", invalid="ignore"):
+            orth = np.abs(np.einsum("kji,kjl->kil", R, R) - np.eye(3)).max(axis=(1, 2))
+            det = np.abs(np.linalg.det(R) - 1.0)
         bottom = np.abs(A[:, 3] - np.array([0.0, 0.0, 0.0, 1.0])).max(axis=1)
-        bad = np.nonzero(np.maximum(np.maximum(orth, det), bottom) > RIGID_TOL)[0]
+        bad = np.nonzero(~((orth <= RIGID_TOL) & (det <= RIGID_TOL) & (bottom <= RIGID_TOL)))[0]
         if len(bad):
             where = "" if single else f" (target {bad[0]})"
             raise ConfigurationError(f"IK target{where} is not a rigid transform: its rotation must be orthonormal "
@@ -153,13 +155,15 @@ def solve_ik(robot, T, seed: int = 0, q0=None, mode: str = "auto", restarts: int
     scale = _length_scale(chain)
     solver = _LM(robot, P, scale, tol_position, tol_orientation, max_iter)
 
-    best_q = np.zeros((N, n))
+    # successful starts are ranked by their distance to q0, or to the home configuration
+    ref = Q0 if Q0 is not None else np.broadcast_to(np.clip(0.0, lo, hi), (N, n))
+    # until a start has a finite residual the answer is the reference: a defined configuration inside
+    # the limits even for a target so far away that every residual overflows
+    best_q = np.array(ref, dtype=float)
     best_ok = np.zeros(N, bool)
     best_dist = np.full(N, np.inf)
     best_resid = np.full(N, np.inf)
     best_pe, best_oe = np.full(N, np.inf), np.full(N, np.inf)
-    # successful starts are ranked by their distance to q0, or to the home configuration
-    ref = Q0 if Q0 is not None else np.broadcast_to(np.clip(0.0, lo, hi), (N, n))
     for rnd in range(max(rounds, 1)):
         todo = np.nonzero(~best_ok)[0] if rnd else np.arange(N)
         if len(todo) == 0:
@@ -212,7 +216,15 @@ class _LM:
         return e, J
 
     def run(self, Q, Pt, Rt, tgt):
-        """Iterate from starts Q (M, n) towards targets; return (Q, position error, orientation error)."""
+        """Iterate from starts Q (M, n) towards targets; return (Q, position error, orientation error).
+
+        A target so far away that its squared error overflows has an infinite cost: no step lowers
+        it, so its start is returned unchanged, with its position error (finite below ~1.8e308 m).
+        """
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            return self._run(Q, Pt, Rt, tgt)
+
+    def _run(self, Q, Pt, Rt, tgt):
         chain = self.robot.chain
         lo, hi = chain.lower, chain.upper
         Q = Q.copy()
@@ -241,9 +253,21 @@ class _LM:
             lam[w] *= 6.0
             active &= ~((lam > 1e8) | (cost < self.tol_cost))
         T = self._eval(Q, tgt, WANT_T)["T"]
-        pe = np.linalg.norm(Pt - T[:, :3, 3], axis=1)
+        pe = _row_norms(Pt - T[:, :3, 3])
         oe = np.zeros(len(Q)) if Rt is None else np.linalg.norm(rotation_error(Rt, T[:, :3, :3]), axis=1)
         return Q, pe, oe
+
+
+def _row_norms(E: np.ndarray) -> np.ndarray:
+    """Euclidean norms of the rows of E (M, k), as ``np.linalg.norm(E, axis=1)``; rows whose squares
+    overflow (entries beyond ~1e154) are scaled first, so that a finite row has its finite norm."""
+    with np.errstate(over="ignore"):
+        r = np.linalg.norm(E, axis=1)
+        big = np.isinf(r) & np.isfinite(E).all(axis=1)
+        if big.any():
+            m = np.abs(E[big]).max(axis=1)
+            r[big] = m * np.linalg.norm(E[big] / m[:, None], axis=1)
+    return r
 
 
 def _length_scale(chain) -> float:

@@ -230,6 +230,40 @@ def test_batch_shapes():
     assert empty.q.shape == (0, 6) and empty.success.shape == (0,)
 
 
+@pytest.mark.parametrize("name", ["puma560", "scara_rrp", "cnc_rrrppp"])
+@pytest.mark.parametrize("far", [1e308, -1e308, 1e200, 1e3])
+def test_absurdly_far_targets_fail_with_a_defined_configuration(name, far):
+    """A target whose squared error overflows (1e200, 1e308 m) fails like any unreachable one: success
+    False, the seed (q0, clipped to the limits) or a finite configuration inside the limits, and its
+    true position error — never uninitialised memory (6.9e-310 …), never a RuntimeWarning."""
+    import warnings
+    r = robot(name)
+    c = r.chain
+    lo, hi = c.lower, c.upper
+    q0 = np.clip(lo + 0.3 * (hi - lo), lo, hi)
+    p = np.array([far, -0.5 * far, 0.25 * far])
+    T = np.eye(4)
+    T[:3, 3] = p
+    targets = [p] + ([T] if len(r.task_rows) == 6 else [])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for tgt in targets:
+            for batch in (False, True):
+                t = np.stack([tgt, tgt]) if batch else tgt
+                for kw in ({}, {"q0": q0}):
+                    res = r.ik(t, seed=3, **kw)
+                    Q, pe = np.atleast_2d(res.q), np.atleast_1d(res.position_error)
+                    assert not np.any(res.success)
+                    assert np.all(np.isfinite(Q)) and np.all(c.within_limits(Q)), Q
+                    if abs(far) >= 1e200:          # no step lowers an infinite cost: the start comes back
+                        assert pe == pytest.approx(np.linalg.norm(p / far) * abs(far), rel=1e-9)
+                        if kw:
+                            np.testing.assert_array_equal(Q, np.broadcast_to(q0, Q.shape))
+                    else:                          # an ordinary unreachable target: the residual is the real one
+                        for q, e in zip(Q, pe):
+                            assert e == pytest.approx(np.linalg.norm(fk_numpy(c, q)[:3, 3] - p), rel=1e-9)
+
+
 @pytest.mark.parametrize("shape", [(4, 5), (3, 3), (2,), (4,), (3, 4), (4, 4, 4, 4), (2, 3, 3), ()])
 def test_bad_target_shapes(shape):
     with pytest.raises(kin.ConfigurationError, match="IK target has shape"):
