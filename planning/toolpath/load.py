@@ -21,7 +21,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from planning.toolpath.csv_reader import read_toolpath_csv
-from planning.toolpath.model import ToolPath, ToolPathError
+from planning.toolpath.model import ToolPath, ToolPathError, robot_units
 from planning.toolpath.segments import read_toolpath_toml
 
 __all__ = ["load_toolpath", "READERS"]
@@ -30,7 +30,12 @@ READERS = {".csv": read_toolpath_csv, ".toml": read_toolpath_toml}
 
 
 def load_toolpath(path: str | Path, robot) -> ToolPath:
-    """Read a tool path by its extension: ``.csv`` (waypoints) or ``.toml`` (parametric segments)."""
+    """Read a tool path by its extension: ``.csv`` (waypoints) or ``.toml`` (parametric segments).
+
+    ``robot`` (a :class:`kin.Robot` or :class:`kin.Chain`) is required: the file's numbers are in its
+    robot file's units (:class:`ToolPathError` without one).
+    """
+    robot_units(robot)
     p = Path(path)
     reader = READERS.get(p.suffix.lower())
     if reader is None:

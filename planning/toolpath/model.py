@@ -12,7 +12,9 @@ from typing import Sequence
 
 import numpy as np
 
+from kin.chain import ANGLE_UNITS, LENGTH_UNITS
 from kin.errors import RmtError
+from kin.robot import real_array
 
 from planning.toolpath.geometry import chord_length, times_from_feed
 
@@ -118,11 +120,22 @@ class ToolPath:
     @classmethod
     def from_poses(cls, poses, feed: float | Sequence[float] | None = None, t=None, source: str = "poses",
                    has_orientation: bool = True) -> "ToolPath":
-        """A path through given poses (N, 4, 4), SI; arc length by chords; timing from ``t`` (N,) or a
-        ``feed`` (m/s; a scalar or one per waypoint, the feed of the move into it)."""
-        poses = np.asarray(poses, dtype=float)
+        """A path through given poses (N, 4, 4) or one pose (4, 4), SI, coordinates within
+        ±:data:`MAX_COORDINATE`; arc length by chords; timing from ``t`` (N,) or a ``feed`` (m/s; a
+        scalar or one per waypoint, the feed of the move into it).  :class:`ToolPathError` for
+        anything else."""
+        poses = real_array(poses, "poses", lambda msg: ToolPathError(msg, source)).astype(float)
+        shape = poses.shape
         if poses.ndim == 2:
             poses = poses[None]
+        if poses.ndim != 3 or poses.shape[1:] != (4, 4) or len(poses) == 0:
+            raise ToolPathError(f"poses has shape {shape}; expected (N, 4, 4) with N ≥ 1, or one pose (4, 4)", source)
+        if not np.all(np.isfinite(poses)):
+            raise ToolPathError("poses hold NaN or infinite values", source)
+        if np.any(np.abs(poses[:, :3, 3]) > MAX_COORDINATE):
+            i = int(np.argmax(np.abs(poses[:, :3, 3]).max(axis=1) > MAX_COORDINATE))
+            raise ToolPathError(f"poses[{i}] has a coordinate beyond ±{MAX_COORDINATE:g} m (10 km), the range a "
+                                f"tool path may span", source)
         s = chord_length(poses[:, :3, 3])
         feeds = None
         if t is not None and feed is not None:
@@ -140,9 +153,21 @@ class ToolPath:
 
 
 def robot_units(robot) -> tuple[str, str]:
-    """(length unit, angle unit) of a Robot or Chain: the units a tool-path file is read in."""
+    """(length unit, angle unit) of a Robot or Chain (or anything with a ``chain`` or itself holding
+    ``length_unit`` and ``angle_unit``): the units a tool-path file is read in.
+
+    :class:`ToolPathError` for anything else (``None`` included): a tool-path file holds numbers in
+    its robot file's units, so the robot is required.
+    """
     chain = getattr(robot, "chain", robot)
-    return chain.length_unit, chain.angle_unit
+    units = getattr(chain, "length_unit", None), getattr(chain, "angle_unit", None)
+    if not (isinstance(units[0], str) and units[0] in LENGTH_UNITS and isinstance(units[1], str)
+            and units[1] in ANGLE_UNITS):
+        got = repr(robot)
+        got = got if len(got) <= 40 else f"a {type(robot).__name__}"
+        raise ToolPathError(f"robot is {got}; expected a kin.Robot or kin.Chain (a tool-path file is read in "
+                            f"its robot file's units)")
+    return units
 
 
 def read_toolpath_text(path: str | Path) -> tuple[str, str]:
