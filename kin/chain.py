@@ -37,6 +37,11 @@ LENGTH_FIELDS = ("a", "d")
 ANGLE_FIELDS = ("alpha", "theta")
 TASK_ROWS = ("x", "y", "z", "rx", "ry", "rz")
 NAME_RE = re.compile(r"^[a-z0-9_]+$")
+#: the largest magnitude (m) of a prismatic joint value or a length design parameter that the
+#: evaluators accept: 100 times the largest length a robot file may hold (10 km), so far outside
+#: every joint's limits, yet small enough that no FK, Jacobian or dexterity measure overflows
+#: (revolute joint values may be any finite angle: only their sine and cosine are used)
+MAX_PRISMATIC = 1e6
 
 Value = float | str  # a number (SI) or the name of a design parameter
 
@@ -243,14 +248,24 @@ class Chain:
                 v = float(v)
                 if not math.isfinite(v):
                     raise ParameterError(f"design parameter {k!r} = {v} is not finite")
+                if self.parameters[k].kind == "length" and abs(v) > MAX_PRISMATIC:
+                    raise ParameterError(f"design parameter {k!r} = {v:.6g} m is beyond ±{MAX_PRISMATIC:g} m, "
+                                         f"the range a length may take")
                 p[names.index(k)] = v
             return p
         arr = np.asarray(values, dtype=float)
         if arr.shape[-1:] != (len(p),) and not (len(p) == 0 and arr.size == 0):
             raise ParameterError(f"parameter vector has shape {arr.shape}; expected (..., {len(p)}) "
                                  f"for {', '.join(self.parameters) or 'no parameters'}")
-        if not np.all(np.isfinite(arr)):
-            raise ParameterError("parameter vector holds NaN or infinite values")
+        if not (np.abs(arr) <= MAX_PRISMATIC).all():     # one pass in the common case (NaN compares False)
+            if not np.all(np.isfinite(arr)):
+                raise ParameterError("parameter vector holds NaN or infinite values")
+            length = np.array([q.kind == "length" for q in self.parameters.values()], dtype=bool)
+            beyond = (np.abs(arr) > MAX_PRISMATIC) & length
+            if beyond.any():
+                k, v = int(np.argwhere(beyond)[0][-1]), float(arr[beyond][0])
+                raise ParameterError(f"design parameter {list(self.parameters)[k]!r} = {v:.6g} m is beyond "
+                                     f"±{MAX_PRISMATIC:g} m, the range a length may take")
         return arr
 
     def resolve(self, value: Value, params: np.ndarray | None = None) -> float:
@@ -276,8 +291,13 @@ class Chain:
         return replace(self, joints=joints, parameters={})
 
     # ---- configurations --------------------------------------------------------------------
-    def as_batch(self, q, what: str = "q") -> tuple[np.ndarray, bool]:
-        """Validate a configuration (n,) or batch (N, n); return (batch (N, n), was_single)."""
+    def as_batch(self, q, what: str = "q", bounded: bool = True) -> tuple[np.ndarray, bool]:
+        """Validate a configuration (n,) or batch (N, n); return (batch (N, n), was_single).
+
+        Values must be finite, and with ``bounded`` a prismatic joint's within ±:data:`MAX_PRISMATIC`
+        (:class:`ConfigurationError` otherwise); ``bounded=False`` is for the limit checks, which
+        answer for any finite value.
+        """
         arr = np.asarray(q, dtype=float)
         single = arr.ndim == 1
         if single:
@@ -285,20 +305,29 @@ class Chain:
         if arr.ndim != 2 or arr.shape[1] != self.n:
             raise ConfigurationError(f"{what} has shape {np.shape(q)}; expected ({self.n},) or (N, {self.n}) "
                                      f"for {self.name} ({self.n} joints)")
-        if not np.all(np.isfinite(arr)):
-            bad = np.argwhere(~np.isfinite(arr))[0]
-            raise ConfigurationError(f"{what} holds a non-finite value (row {bad[0]}, joint {bad[1] + 1})")
+        if not (np.abs(arr) <= MAX_PRISMATIC).all():     # one pass in the common case (NaN compares False)
+            if not np.all(np.isfinite(arr)):
+                bad = np.argwhere(~np.isfinite(arr))[0]
+                raise ConfigurationError(f"{what} holds a non-finite value (row {bad[0]}, joint {bad[1] + 1})")
+            beyond = (np.abs(arr) > MAX_PRISMATIC) & ~self.revolute_mask
+            if bounded and beyond.any():
+                r, j = np.argwhere(beyond)[0]
+                lo, hi = self.joints[j].limits
+                where = "" if single else f" (row {r})"
+                raise ConfigurationError(f"{what}: prismatic joint {j + 1} = {arr[r, j]:.6g} m{where} is beyond "
+                                         f"±{MAX_PRISMATIC:g} m, the range a prismatic joint value may take "
+                                         f"(its limits: [{lo:.6g}, {hi:.6g}] m)")
         return np.ascontiguousarray(arr), single
 
     def within_limits(self, q, tol: float = 0.0) -> np.ndarray | bool:
         """True where every joint is inside its limits (± tol); bool or (N,) bool array."""
-        Q, single = self.as_batch(q)
+        Q, single = self.as_batch(q, bounded=False)
         ok = np.all((Q >= self.lower - tol) & (Q <= self.upper + tol), axis=1)
         return bool(ok[0]) if single else ok
 
     def limit_violations(self, q, tol: float = 1e-12) -> list[tuple[int, float, tuple[float, float]]]:
         """The joints of one configuration outside their limits: (1-based index, value, limits), SI."""
-        Q, _ = self.as_batch(q)
+        Q, _ = self.as_batch(q, bounded=False)
         out = []
         for i, (v, j) in enumerate(zip(Q[0], self.joints), 1):
             if v < j.limits[0] - tol or v > j.limits[1] + tol:
@@ -310,7 +339,7 @@ class Chain:
 
         ``q`` is one configuration (n,) or a batch (N, n); every row of a batch is checked.
         """
-        Q, single = self.as_batch(q)
+        Q, single = self.as_batch(q, bounded=False)
         for r, row in enumerate(Q):
             bad = self.limit_violations(row, tol)
             if bad:

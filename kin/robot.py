@@ -127,8 +127,9 @@ class Robot:
         """Fast path for one configuration with nominal parameters (``name``: fk, jacobian,
         fk_jacobian, measures); None when it does not apply and the validating batch path must run.
 
-        The compiled library's extension functions take q as it comes (anything but a finite float64
-        (n,) array gives None); without them, the library's buffers are used through ctypes.
+        The compiled library's extension functions take q as it comes (anything but a float64 (n,)
+        array of finite values, prismatic ones within ±:data:`kin.chain.MAX_PRISMATIC`, gives None);
+        without them, the library's buffers are used through ctypes.
         """
         f = self._fast
         if f is not None:

@@ -159,6 +159,9 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
         i = int(np.argmax(bad))
         return PathCheck(False, Violation(i, "nonfinite", f"row {i} holds NaN or infinite values"),
                          math.nan, -1, math.nan, 0)
+    # a prismatic joint beyond the evaluators' range (far outside its limits) is refused, naming the row:
+    # σ_min is evaluated at every state (the states between rows lie within the range of their rows)
+    chain.as_batch(P, "path")
     with np.errstate(over="ignore", invalid="ignore"):
         steps = np.abs(np.diff(P, axis=0)) if len(P) > 1 else np.zeros((0, chain.n))
     max_step_seen = float(steps.max()) if steps.size else 0.0

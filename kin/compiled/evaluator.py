@@ -243,7 +243,7 @@ class CompiledEvaluator:
         """Single configuration, parameters :attr:`p_nominal`, into the library's buffers ``T1 J1 m1``.
 
         Call with :attr:`lock` held and copy the results out before releasing it.  Returns 0, or
-        −(1 + i) when joint i of ``q`` is not finite.
+        −(1 + i) when joint i of ``q`` is not finite or, prismatic, beyond ±:data:`kin.chain.MAX_PRISMATIC`.
         """
         self.q1[:] = q
         if self.n_p:  # the library is shared by chains of the same structure: parameters each call

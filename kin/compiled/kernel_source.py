@@ -31,6 +31,7 @@ the path without those headers.
 """
 from __future__ import annotations
 
+from kin.chain import MAX_PRISMATIC
 from kin.compiled.measures_c import jacobi_c, qr_measures_c
 
 _TEMPLATE = r"""
@@ -55,6 +56,7 @@ _TEMPLATE = r"""
 #define RMT_C (RMT_M >= RMT_N ? RMT_N : RMT_M)
 #define RMT_INLINE static inline __attribute__((always_inline))
 #define RMT_SIMD _Pragma("omp simd")
+#define RMT_PRISMATIC_MAX %%PRISMATIC_MAX%%
 static const int RMT_ROWS[RMT_M] = { %%ROWS%% };
 static const int RMT_REVOLUTE[RMT_N] = { %%REVOLUTE%% };
 
@@ -234,12 +236,18 @@ static void rmt_one(const double* q, const double* p, double* T, double* J, doub
   if (flags & RMT_WANT_SIGMA) rmt_sigma(1, 1, Jc, a, m + 1, m + 2);
 }
 
+/* 1 when joint value v of joint i is one the evaluators accept: finite, and within ±RMT_PRISMATIC_MAX for a
+   prismatic joint (kin.chain.MAX_PRISMATIC; the validating Python path says why not). */
+RMT_INLINE int rmt_q_ok(int i, double v) {
+  return RMT_REVOLUTE[i] ? isfinite(v) : fabs(v) <= RMT_PRISMATIC_MAX;
+}
+
 /* Single configuration through library-owned buffers (no pointer marshalling from Python):
    rmt_gq, rmt_gp (parameters, written by the caller with each call) in; rmt_gT, rmt_gJ, rmt_gm out.  Returns 0, or −(1 + i)
-   when joint i is not finite. */
+   when joint i is not finite or, prismatic, beyond ±RMT_PRISMATIC_MAX. */
 double rmt_gq[RMT_N], rmt_gp[RMT_NP1], rmt_gT[16], rmt_gJ[6 * RMT_N], rmt_gm[4];
 int rmt_eval_g(int flags) {
-  for (int i = 0; i < RMT_N; ++i) if (!isfinite(rmt_gq[i])) return -1 - i;
+  for (int i = 0; i < RMT_N; ++i) if (!rmt_q_ok(i, rmt_gq[i])) return -1 - i;
   rmt_one(rmt_gq, rmt_gp, rmt_gT, rmt_gJ, rmt_gm, flags);
   return 0;
 }
@@ -247,7 +255,7 @@ int rmt_eval_g(int flags) {
 #ifdef RMT_PYEXT
 /* The single-call path as a CPython extension module: one C call from Python per evaluation, the
    result arrays created here.  Each function takes q, a float64 C-contiguous ndarray of shape (n,)
-   with finite values, and p, the design parameters (float64 (n_p,); ignored when n_p = 0 — the
+   whose values rmt_q_ok accepts, and p, the design parameters (float64 (n_p,); ignored when n_p = 0 — the
    library is shared by every chain of the same structure, so the nominal values are the caller's),
    and returns None for anything else (the Python caller then validates and reports).  Runs with
    the GIL held, on stack buffers. */
@@ -256,17 +264,17 @@ int rmt_eval_g(int flags) {
 #define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
 #include <numpy/arrayobject.h>
 
-static const double* rmt_py_vec(PyObject* o, int n, int finite) {
+static const double* rmt_py_vec(PyObject* o, int n, int joints) {
   if (!PyArray_CheckExact(o)) return NULL;
   PyArrayObject* a = (PyArrayObject*)o;
   if (PyArray_TYPE(a) != NPY_DOUBLE || PyArray_NDIM(a) != 1 || PyArray_DIM(a, 0) != n
       || !PyArray_ISCARRAY_RO(a) || PyArray_ISBYTESWAPPED(a)) return NULL;
   const double* v = (const double*)PyArray_DATA(a);
-  if (finite) for (int i = 0; i < n; ++i) if (!isfinite(v[i])) return NULL;
+  if (joints) for (int i = 0; i < n; ++i) if (!rmt_q_ok(i, v[i])) return NULL;
   return v;
 }
 
-/* (q, p) of a call: q finite float64 (n,), p float64 (n_p,) (the caller's nominal parameters). */
+/* (q, p) of a call: q float64 (n,) accepted by rmt_q_ok, p float64 (n_p,) (the caller's nominal parameters). */
 static int rmt_py_qp(PyObject* const* args, Py_ssize_t nargs, Py_ssize_t want_args, const double** q,
                      const double** p) {
   if (nargs != want_args) { PyErr_SetString(PyExc_TypeError, "wrong number of arguments"); return -1; }
@@ -351,7 +359,8 @@ def kernel_source(n: int, m: int, n_p: int, rows: tuple[int, ...], revolute: tup
     """The whole kernel's C source; ``graph`` is the ``rmt_graph`` function of :mod:`kin.compiled.graph_c`."""
     measures = qr_measures_c(rows, n) + "\n" + jacobi_c(rows, n)
     subs = {"MEASURES": measures, "N": str(n), "M": str(m), "NP": str(n_p), "B": str(block), "ROWS": ", ".join(map(str, rows)),
-            "REVOLUTE": ", ".join("1" if r else "0" for r in revolute), "GRAPH": graph}
+            "REVOLUTE": ", ".join("1" if r else "0" for r in revolute), "GRAPH": graph,
+            "PRISMATIC_MAX": repr(float(MAX_PRISMATIC))}
     src = _TEMPLATE
     for k, v in subs.items():
         src = src.replace(f"%%{k}%%", v)

@@ -7,10 +7,27 @@ import sys
 import numpy as np
 
 import kin
+from kin.chain import MAX_PRISMATIC
 from kin.transforms import make_transform, rpy_to_matrix
 
-from studies.cli.common import EXIT_FAIL, EXIT_OK, dump, joint_values, numbers, positions, require_task_rows, seed
+from studies.cli.common import (EXIT_FAIL, EXIT_OK, CliInputError, dump, joint_values, numbers, positions,
+                                require_task_rows, seed)
 from studies.units import joint_units, pose_to_file, unit_names
+
+
+def configuration(robot: kin.Robot, values, what: str = "joint values") -> np.ndarray:
+    """A configuration given in the robot file's units → SI: :func:`joint_values` (count, finiteness),
+    and every prismatic joint within ±:data:`kin.chain.MAX_PRISMATIC` (the range the evaluators accept;
+    far outside any limit), else one line naming the argument, the joint and that range in file units."""
+    c = robot.chain
+    q = joint_values(robot, values, what)
+    for i, j in enumerate(c.joints):
+        if not j.is_revolute and not abs(q[i]) <= MAX_PRISMATIC:
+            s, u = c.length_scale, c.length_unit
+            raise CliInputError(f"{what}: joint {i + 1} = {q[i] / s:.6g} {u} is beyond ±{MAX_PRISMATIC / s:g} {u}, "
+                                f"the range a prismatic joint value may take (its limits: [{j.limits[0] / s:.6g}, "
+                                f"{j.limits[1] / s:.6g}] {u})")
+    return q
 
 
 def _warn_limits(robot: kin.Robot, q: np.ndarray) -> None:
@@ -79,7 +96,7 @@ def cmd_show(args, load_robot) -> int:
 
 def cmd_fk(args, load_robot) -> int:
     robot = load_robot(args.robot)
-    q = joint_values(robot, args.q)
+    q = configuration(robot, args.q)
     _warn_limits(robot, q)
     T = pose_to_file(robot.chain, robot.fk(q))
     out = {"T": T.tolist(), "position": T[:3, 3].tolist(), "units": unit_names(robot.chain),
@@ -95,7 +112,7 @@ def cmd_fk(args, load_robot) -> int:
 def cmd_jacobian(args, load_robot) -> int:
     from studies.study import kinematics as ks
     robot = require_task_rows(load_robot(args.robot))
-    q = joint_values(robot, args.q)
+    q = configuration(robot, args.q)
     _warn_limits(robot, q)
     r = ks.evaluate_configuration(robot, robot.chain.from_si(q))
     out = {"J": r["J"], "manipulability": r["manipulability"], "sigma_min": r["sigma_min"],
@@ -123,7 +140,7 @@ def cmd_ik(args, load_robot) -> int:
         mode = "pose"
     else:
         target, mode = xyz, "position"
-    q0 = None if args.q0 is None else joint_values(robot, args.q0, "--q0")
+    q0 = None if args.q0 is None else configuration(robot, args.q0, "--q0")
     res = robot.ik(target, seed=args.seed, q0=q0, mode=mode)
     out = {"success": bool(res.success), "q": c.from_si(res.q).tolist(),
            "position_error": res.position_error / c.length_scale,

@@ -176,13 +176,8 @@ def cmd_validate_toolpath(args, load_robot) -> int:
     c = robot.chain
     tp = load_toolpath(toolpath_file(args.toolpath), robot)
     ws = _windows(robot, args)
-    start = None
-    if args.start is not None:
-        q = numbers(args.start, "--start")
-        if len(q) != robot.n:
-            raise kin.RmtError(f"--start: got {len(q)} values; {robot.name} has {robot.n} joints "
-                               f"({', '.join(joint_units(c))})")
-        start = c.to_si(q)
+    from studies.cli.kinematics import configuration
+    start = None if args.start is None else configuration(robot, args.start, "--start")
     floor = _positive(args.sigma_floor, "--sigma-floor")
     if args.sigma_min is not None:
         floor = args.sigma_min if floor is None else max(floor, args.sigma_min)

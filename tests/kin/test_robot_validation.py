@@ -69,6 +69,50 @@ def test_non_finite_and_wrong_shapes_refused(backend, call):
         np.testing.assert_allclose(a, b)
 
 
+_cnc: dict = {}
+
+
+def cnc(backend: str) -> kin.Robot:
+    """cnc_rrrppp: three revolute joints, then three prismatic ones."""
+    if backend not in _cnc:
+        _cnc[backend] = kin.Robot(kin.load_chain("cnc_rrrppp"), backend=backend)
+    return _cnc[backend]
+
+
+@pytest.mark.parametrize("backend", ["auto", "vm"])
+@pytest.mark.parametrize("call", CALLS[:8])
+def test_prismatic_values_beyond_the_evaluators_range_refused(backend, call):
+    """A prismatic joint at 1e308 m overflowed the FK, Jacobian and measures: NaN manipulability,
+    σ_min 0 or 1, numpy RuntimeWarnings (the VM's det), LAPACK lines on stderr.  Beyond
+    ±MAX_PRISMATIC it is refused naming the joint and the range, on the fast single path too;
+    within it, and for revolute joints at any finite angle, the answer is finite and warning-free."""
+    import warnings
+    from kin.chain import MAX_PRISMATIC
+    r = cnc(backend)
+    f = getattr(r, call)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for v in (1e308, -1e308, 1e200, math.nextafter(MAX_PRISMATIC, math.inf)):
+            q = np.zeros(6)
+            q[4] = v
+            for arg in (q, list(q)):
+                with pytest.raises(kin.ConfigurationError, match=r"joint 5 = .* m is beyond ±1e\+06 m"):
+                    f(arg)
+            with pytest.raises(kin.ConfigurationError, match=r"joint 5 = .* m \(row 1\) is beyond ±1e\+06 m"):
+                f(np.stack([np.zeros(6), q]))
+        for q in (np.array([1e308, -1e308, 1e200, 0.1, 0.2, 0.3]),
+                  np.array([0.1, 0.2, 0.3, MAX_PRISMATIC, -MAX_PRISMATIC, 1e5])):
+            for res in (f(q), f(np.stack([q, q]))):
+                for x in (res if isinstance(res, tuple) else (res,)):
+                    x = np.asarray(x, dtype=float)
+                    assert np.all(np.isfinite(x) | np.isinf(x)) and not np.any(np.isnan(x)), (call, q, x)
+    # the limit checks still answer for any finite value
+    q = np.array([0.0, 0.0, 0.0, 0.0, 1e308, 0.0])
+    assert r.within_limits(q) is False
+    with pytest.raises(kin.JointLimitError, match="joint 5"):
+        r.check_limits(q)
+
+
 def test_real_values_of_other_types_still_work():
     r = robot("auto")
     ref = r.fk(np.array(Q0))
@@ -85,7 +129,7 @@ def param_robot() -> kin.Robot:
 
 @pytest.mark.parametrize("params", [["1.0"], np.array(["1.0"]), [1.0 + 0j], np.array([1 + 2j]), [True], [None],
                                     {"L1": "1.0"}, {"L1": 1 + 0j}, {"L1": True}, {"L1": None}, [math.nan],
-                                    {"L1": math.inf}, [1.0, 2.0], {"L2": 1.0}])
+                                    {"L1": math.inf}, [1.0, 2.0], {"L2": 1.0}, [1e308], {"L1": -1e200}])
 def test_bad_parameters_refused(params):
     r = param_robot()
     with pytest.raises(kin.ParameterError):

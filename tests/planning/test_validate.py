@@ -147,6 +147,21 @@ def test_prismatic_joints_use_the_length_step():
     assert math.isclose(chk.min_sigma, sig.min(), rel_tol=1e-9)
 
 
+def test_prismatic_rows_beyond_the_evaluators_range_refused():
+    """A prismatic joint at 1e305 m (a CSV's 1e308 mm) had its σ_min evaluated there (NaN-born values
+    on other chains, RuntimeWarnings on the VM); such a row is refused naming it and the range."""
+    import warnings
+    robot = kin.load_robot("scara_rrp")
+    P = np.array([[0.0, 0.5, -0.15], [0.0, 0.5, 1e305], [0.0, 0.5, 1e305]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ConfigurationError, match=r"path: prismatic joint 3 = 1e\+305 m \(row 1\) is beyond ±1e\+06 m"):
+            check_path(robot, P, None)
+        P[1:, 2] = -1e6                       # within the range: far outside the limits, reported as such
+        res = check_path(robot, P[1:], None)
+    assert not res.valid and res.first_violation.kind == "limits" and res.first_violation.index == 0
+
+
 def test_densify_respects_the_step_and_keeps_the_rows():
     rng = np.random.default_rng(7)
     P = rng.uniform(-1, 1, size=(6, 4))

@@ -505,6 +505,8 @@ def test_cli_invalid_path_exits_1(capsys, tmp_path):
     (["fanuc_m16ib20", "no_such_bundled_path"], ["bundled:", "ur3_drawing"]),
     (["fanuc_m16ib20", "{tmp}/bad.toml"], ["segments[0].type", "allowed: line, arc"]),
     (["fanuc_m16ib20", "scara_line", "--start", "1", "2"], ["--start", "6 joints"]),
+    (["scara_rrp", "scara_line", "--start", "100", "100", "1e308"], ["--start", "joint 3 = 1e+308 mm", "±1e+09 mm"]),
+    (["scara_rrp", "scara_line", "--start", "0", "0", "-1e308"], ["--start", "joint 3 = -1e+308 mm", "±1e+09 mm"]),
     (["no_robot", "scara_line"], ["unknown robot"]),
 ])
 def test_cli_bad_input_exits_2(capsys, tmp_path, argv, words):
@@ -515,3 +517,22 @@ def test_cli_bad_input_exits_2(capsys, tmp_path, argv, words):
     assert err.startswith("rmt: error: ") and len(err.strip().splitlines()) == 1
     for w in words:
         assert w in err, err
+
+
+@pytest.mark.parametrize("start", [["1e308", "-1e308", "-100"], ["-1e308", "1e308", "-999999999"]])
+def test_cli_huge_start_values_without_warnings(capsys, start):
+    """Revolute joints at any finite angle and a prismatic one inside the evaluators' range (±1e9 mm)
+    are a start like any other: the path is followed, stderr stays empty (no numpy RuntimeWarning,
+    as --start 100 100 1e308 printed before it was refused)."""
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        code, out, err = run(capsys, "validate-toolpath", "scara_rrp", "scara_line", "--start", *start)
+    assert code == 0 and out.startswith("VALID") and err == "", err
+
+
+def test_api_start_q_beyond_the_evaluators_range_refused():
+    scara = kin.load_robot("scara_rrp")
+    tp = load_toolpath(SCARA_CSV, scara)
+    with pytest.raises(kin.ConfigurationError, match=r"start_q: prismatic joint 3 = 1e\+308 m is beyond ±1e\+06 m"):
+        validate_toolpath(scara, tp, start_q=[0.1, 0.2, 1e308])

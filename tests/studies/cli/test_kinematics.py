@@ -61,6 +61,53 @@ def test_fk_out_of_limits_warns_but_answers(capsys):
     assert "position" in out
 
 
+def run_strict(capsys, *argv):
+    """``run`` with every Python warning an error: a numpy RuntimeWarning fails the test even when an
+    earlier test already printed the same one (which the default filter would then hide)."""
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        return run(capsys, *argv)
+
+
+@pytest.mark.parametrize("argv, fragment", [
+    (["jacobian", "cnc_rrrppp", "0", "0", "0", "1e308", "1e308", "1e308"], "joint values: joint 4 = 1e+308 m"),
+    (["jacobian", "cnc_rrrppp", "0", "0", "0", "-1e308", "-1e308", "-1e308", "--json"], "joint 4 = -1e+308 m"),
+    (["fk", "cnc_rrrppp", "0", "0", "0", "0", "0", "1e308"], "joint values: joint 6 = 1e+308 m"),
+    (["fk", "scara_rrp", "0", "0", "-1e308"], "joint 3 = -1e+308 mm is beyond ±1e+09 mm"),
+    (["jacobian", "scara_rrp", "0", "0", "1000000001"], "joint 3 = 1e+09 mm is beyond ±1e+09 mm"),
+    (["ik", "scara_rrp", "--xyz", "100", "100", "0", "--q0", "0", "0", "1e308"], "--q0: joint 3 = 1e+308 mm"),
+])
+def test_prismatic_values_beyond_the_evaluators_range_exit_2(capsys, argv, fragment):
+    """A prismatic joint at ±1e308 printed numpy's "divide by zero in det" and NaN-born measures
+    (manipulability 0, σ_min 0); it is refused — one line naming the argument, the joint, the range
+    (±1e6 m in the robot file's unit) and the joint's limits, before any limit warning."""
+    code, out, err = run_strict(capsys, *argv)
+    assert code == 2 and out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("rmt: error:") and fragment in lines[0], err
+    assert "prismatic joint value may take (its limits: [" in lines[0]
+
+
+@pytest.mark.parametrize("argv", [
+    ["jacobian", "cnc_rrrppp", "1e308", "-1e308", "1e308", "0", "0", "0"],
+    ["jacobian", "cnc_rrrppp", "1e308", "-1e308", "1e308", "1e6", "-1e6", "999999", "--json"],
+    ["fk", "cnc_rrrppp", "-1e308", "1e308", "-1e308", "-1e6", "1e6", "0"],
+    ["fk", "scara_rrp", "1e308", "-1e308", "-1e9", "--json"],
+    ["jacobian", "puma560", "1e308", "-1e308", "1e308", "-1e308", "1e308", "-1e308", "--json"],
+    ["ik", "scara_rrp", "--xyz", "100", "100", "0", "--q0", "1e308", "-1e308", "-1e9"],
+])
+def test_huge_joint_values_in_range_answer_without_warnings(capsys, argv):
+    """Revolute joints at any finite angle, prismatic ones within the range: the answer comes with the
+    CLI's own limit warnings only (no numpy RuntimeWarning), finite in JSON."""
+    code, out, err = run_strict(capsys, *argv)
+    assert code in (0, 1), err
+    assert "Warning" not in err and "Traceback" not in err, err
+    assert all(line.startswith("rmt: warning: joint") for line in err.splitlines()), err
+    if "--json" in argv:
+        json.loads(out, parse_constant=lambda c: pytest.fail(f"non-finite {c} in JSON"))
+
+
 def test_jacobian_json_fields_and_units(capsys):
     code, out, _ = run(capsys, "jacobian", "scara_rrp", "0.3", "1.0", "-150", "--json")
     assert code == 0
