@@ -169,6 +169,26 @@ def test_planned_paths_pass_check_path_and_an_independent_numpy_check():
         assert np.all(np.abs(D[:, 2][:, None] - elbow_roots[None, :]) > MARGIN), seed  # elbow
 
 
+@pytest.mark.parametrize("planner", ["PRM*", "BIT*", "KPIECE1"])
+def test_other_planners_paths_pass_check_path(planner):
+    """Whatever the planner: a path it returns is accepted by check_path and the numpy check."""
+    robot = kin.load_robot("fanuc_m16ib20")
+    windows = windows_from_args(robot, MARGIN, None)
+    eps = next(w.epsilon for w in windows.windows if w.kind == "shoulder")
+    dh = _fanuc_dh(robot)
+    returned = 0
+    for seed, (a, b) in enumerate(_queries(robot, windows, 3)):
+        res = plan(robot, a, b, windows, planner=planner, time_limit=2.0, seed=seed)
+        if not res.success:          # an optimising planner may not finish in time; it then returns no path
+            assert len(res.path) == 0
+            continue
+        returned += 1
+        chk = check_path(robot, np.asarray(res.path), windows)
+        assert res.proven and chk.valid and chk.windows_check == "proven", (planner, seed, chk)
+        assert np.all(_wrist_centre_radius(dh, _dense(np.asarray(res.path), 2e-3)) > eps)
+    assert returned >= 1
+
+
 def test_the_shoulder_window_holds_the_margin_neighbourhood_of_its_zero_set():
     """The documented promise: every configuration within the width (joint distance) of the zero set
     is inside.  Zeros of the wrist-centre radius are found by bisection on q3 for given q2; points at
