@@ -98,7 +98,7 @@ def _tree(expr, symbols) -> Node:
         raise IntervalError(str(e)) from None
 
 
-def _build(e: Node, n: int | None) -> IntervalFn:
+def _build(e: Node, n: int | None, seen: dict) -> IntervalFn:
     if isinstance(e, Num):
         v = float(e.value)
         if not math.isfinite(v):
@@ -110,14 +110,14 @@ def _build(e: Node, n: int | None) -> IntervalFn:
             raise IntervalError(f"unknown variable q{i + 1} in a factor of {n} variables")
         return lambda lo, hi: (lo[:, i], hi[:, i])
     if isinstance(e, Add):
-        parts = [_build(a, n) for a in e.terms]
+        parts = [_build(a, n, seen) for a in e.terms]
 
         def add(lo, hi):
             rs = [p(lo, hi) for p in parts]
             return _widen(sum(r[0] for r in rs), sum(r[1] for r in rs))
         return add
     if isinstance(e, Mul):
-        parts = [_build(a, n) for a in e.factors]
+        parts = [_build(a, n, seen) for a in e.factors]
 
         def mul(lo, hi):
             alo, ahi = parts[0](lo, hi)
@@ -129,12 +129,20 @@ def _build(e: Node, n: int | None) -> IntervalFn:
     if isinstance(e, Pow):
         if e.exp < 0:
             raise IntervalError(f"power {e.exp} in a factor (only non-negative integer powers are supported)")
-        b, k = _build(e.base, n), e.exp
+        b, k = _build(e.base, n, seen), e.exp
         return lambda lo, hi: _pow(*b(lo, hi), k)
     if isinstance(e, (Sin, Cos)):
-        inner = _build(e.arg, n)
+        # a factor repeats the same sin and cos many times: each is evaluated once per call
+        inner = _build(e.arg, n, seen)
         f = sin_interval if isinstance(e, Sin) else cos_interval
-        return lambda lo, hi: f(*inner(lo, hi))
+        values = seen["values"]
+
+        def trig(lo, hi, key=e):
+            hit = values.get(key)
+            if hit is None:
+                hit = values[key] = f(*inner(lo, hi))
+            return hit
+        return trig
     raise IntervalError(f"unsupported operation {type(e).__name__} in a factor")
 
 
@@ -149,11 +157,16 @@ def compile_interval(expr, symbols=None) -> IntervalFn:
     else:
         tree = _tree(expr, symbols)
         n = len(symbols)
-    fn = _build(tree, n)
+    seen: dict = {"values": {}}
+    fn = _build(tree, n, seen)
 
     def evaluate(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         lo = np.asarray(lo, dtype=float)
         hi = np.asarray(hi, dtype=float)
-        glo, ghi = fn(lo, hi)
+        seen["values"].clear()
+        try:
+            glo, ghi = fn(lo, hi)
+        finally:
+            seen["values"].clear()
         return np.broadcast_to(glo, (len(lo),)).copy(), np.broadcast_to(ghi, (len(lo),)).copy()
     return evaluate
