@@ -23,6 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from kin.singular.evaluate import batch_function
+from kin.singular.tree import Node, derivative, variables
+
 from planning.certify.intervals import compile_interval
 
 __all__ = ["GradientBound", "gradient_bound", "zero_free", "REL_TOL", "MAX_BOXES"]
@@ -50,14 +53,13 @@ class GradientBound:
     converged: bool
 
 
-def _symbols_of(expr, n: int):
+def _as_tree(expr, n: int) -> Node:
+    """The expression tree of ``expr`` (a tree already, or a sympy expression in q1…qn)."""
+    if isinstance(expr, Node):
+        return expr
     from kin.singular.expression import joint_symbols
-    return joint_symbols(n)
-
-
-def _free_joints(expr, syms) -> list[int]:
-    """0-based joints the expression depends on."""
-    return [k for k, s in enumerate(syms) if expr.has(s)]
+    from kin.singular.tree_sympy import from_sympy
+    return from_sympy(expr, joint_symbols(n))
 
 
 def _split(lo: np.ndarray, hi: np.ndarray, cols: list[int]) -> tuple[np.ndarray, np.ndarray]:
@@ -82,23 +84,21 @@ def _start(lower, upper, n: int) -> tuple[np.ndarray, np.ndarray]:
 
 def gradient_bound(expr, n: int, lower, upper, rel_tol: float = REL_TOL,
                    max_boxes: int = MAX_BOXES) -> GradientBound:
-    """A proven bound of ‖∇g‖ over the box [lower, upper] (SI, (n,)), g a sympy expression in
-    q1…qn.  Raises :class:`~planning.certify.intervals.IntervalError` when g holds an operation
-    that interval arithmetic does not support.  See the module docstring."""
-    import sympy as sp
-
-    syms = _symbols_of(expr, n)
-    cols = _free_joints(expr, syms)
+    """A proven bound of ‖∇g‖ over the box [lower, upper] (SI, (n,)), g an expression tree
+    (:mod:`kin.singular.tree`) or a sympy expression in q1…qn.  Raises
+    :class:`~planning.certify.intervals.IntervalError` when g holds an operation that interval
+    arithmetic does not support.  See the module docstring."""
+    tree = _as_tree(expr, n)
+    cols = sorted(variables(tree))
     lo, hi = _start(lower, upper, n)
     if not cols:
         return GradientBound(0.0, 0.0, tuple(float(x) for x in 0.5 * (lo[0] + hi[0])), 0, True)
-    partials = [sp.diff(expr, syms[k]) for k in cols]
-    enclose = [compile_interval(p, syms) for p in partials]
-    value = sp.lambdify([syms], sp.Matrix(partials), modules="numpy")
+    partials = [derivative(tree, k) for k in cols]
+    enclose = [compile_interval(p) for p in partials]
+    values = [batch_function(p) for p in partials]
 
     def norm_at(Q: np.ndarray) -> np.ndarray:
-        G = np.asarray(value(Q.T), dtype=float).reshape(len(cols), -1)
-        return np.sqrt(np.sum(np.broadcast_to(G, (len(cols), len(Q))) ** 2, axis=0))
+        return np.sqrt(sum(np.square(v(Q)) for v in values))
 
     best, best_at, kept, boxes = -1.0, lo[0].copy(), 0.0, 0
     open_lo, open_hi, open_ub = lo[:0], hi[:0], np.zeros(0)
@@ -133,23 +133,22 @@ def gradient_bound(expr, n: int, lower, upper, rel_tol: float = REL_TOL,
 
 
 def zero_free(expr, n: int, lower, upper, max_boxes: int = MAX_BOXES // 4) -> bool:
-    """True when g (sympy, in q1…qn) is proven nonzero on the whole box [lower, upper]; False when a
-    zero or a sign change was found, or the budget ran out before a proof."""
-    import sympy as sp
-
-    syms = _symbols_of(expr, n)
-    cols = _free_joints(expr, syms)
+    """True when g (a tree or a sympy expression in q1…qn) is proven nonzero on the whole box
+    [lower, upper]; False when a zero or a sign change was found, or the budget ran out before a
+    proof."""
+    tree = _as_tree(expr, n)
+    cols = sorted(variables(tree))
     lo, hi = _start(lower, upper, n)
-    f = sp.lambdify([syms], expr, modules="numpy")
+    f = batch_function(tree)
     if not cols:
-        return float(np.asarray(f(lo[0]), dtype=float)) != 0.0
-    enclose = compile_interval(expr, syms)
+        return float(f(lo)[0]) != 0.0
+    enclose = compile_interval(tree)
     sign = None
     boxes = 0
     while len(lo):
         boxes += len(lo)
         glo, ghi = enclose(lo, hi)
-        g = np.broadcast_to(np.asarray(f((0.5 * (lo + hi)).T), dtype=float), (len(lo),))
+        g = f(0.5 * (lo + hi))
         if np.any(g == 0) or not np.all(np.isfinite(g)):
             return False
         s = np.sign(g)

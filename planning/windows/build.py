@@ -103,8 +103,8 @@ def factor_gradient_bound(expr: str, n: int, lower: tuple[float, ...],
     ‖∇g‖ (:func:`planning.certify.gradient.gradient_bound`), ``attained`` a value of ‖∇g‖ reached in
     the box, ``empty`` whether g is proven nonzero on the whole box.  None when interval arithmetic
     does not support the expression."""
-    from kin.singular.expression import parse_expression
-    g = parse_expression(expr, n, "singular factor")
+    from kin.singular.expression import parse_tree
+    g = parse_tree(expr, n, "singular factor")
     try:
         if zero_free(g, n, lower, upper):
             return 0.0, 0.0, True, True

@@ -28,7 +28,7 @@ from planning.windows.model import WindowSet
 __all__ = ["RULE_VERSION", "window_key", "cache_path", "load_cached", "store", "cached"]
 
 #: raised whenever the construction of a window changes (old files are then simply not found)
-RULE_VERSION = 2
+RULE_VERSION = 3
 #: a cache file larger than this is not read
 MAX_BYTES = 256 << 20
 

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from kin.singular.expression import parse_expression
+from kin.singular.expression import parse_expression, parse_tree
 from planning.certify.gradient import REL_TOL, gradient_bound, zero_free
 
 
@@ -83,3 +83,11 @@ def test_no_dependence_no_gradient():
 def test_zero_free_is_proven_only_without_a_zero(text, lo, hi, free):
     n = len(lo)
     assert zero_free(parse_expression(text, n), n, lo, hi) is free
+
+
+def test_a_tree_and_its_sympy_form_give_the_same_bound():
+    text = "0.74*sin(q2 + q3) + 0.77*cos(q2) + 0.1*cos(q2 + q3) + 0.15"
+    lo, hi = [-2.97, -1.57, -2.97], [2.97, 2.79, 5.06]
+    a = gradient_bound(parse_tree(text, 3), 3, lo, hi)
+    b = gradient_bound(parse_expression(text, 3), 3, lo, hi)
+    assert a.bound == pytest.approx(b.bound, rel=1e-12) and a.converged and b.converged
