@@ -13,33 +13,10 @@ import numpy as np
 import kin
 from studies.cli.common import (MAX_SIGMA, bounded, jsonable, numbers, output_file, require_task_rows, seed,
                                 windows_from_args)
+from studies.toolpaths import TOOLPATH_DIR, bundled_toolpaths, toolpath_file
 from studies.units import joint_units, unit_names
 
 #: bundled example tool paths: ``rmt validate-toolpath ROBOT NAME`` finds ``NAME.toml`` or ``NAME.csv`` here
-TOOLPATH_DIR = Path(__file__).parent.parent / "toolpaths"
-
-
-def bundled_toolpaths() -> list[str]:
-    """Names of the bundled example tool paths."""
-    return sorted(p.stem for p in TOOLPATH_DIR.glob("*") if p.suffix in (".toml", ".csv"))
-
-
-def toolpath_file(arg: str) -> Path:
-    """A tool-path argument → an existing file: a path, or the name of a bundled example."""
-    from planning.toolpath import ToolPathError
-    p = Path(arg)
-    if p.is_file():
-        return p
-    if p.suffix or "/" in arg:
-        raise ToolPathError("no such tool-path file", arg)
-    for ext in (".toml", ".csv"):
-        if (TOOLPATH_DIR / f"{arg}{ext}").is_file():
-            return TOOLPATH_DIR / f"{arg}{ext}"
-    raise ToolPathError(f"no such tool-path file or bundled tool path; bundled: {', '.join(bundled_toolpaths())} "
-                        "(or give a path to a .csv or .toml file)", arg)
-
-
-
 def _positive(x: float | None, what: str) -> float | None:
     if x is not None and not (math.isfinite(x) and x > 0):
         raise kin.RmtError(f"{what} {x} must be a positive number")
