@@ -66,7 +66,7 @@ def window_for_factor(factor: SingularFactor | SingularComponent, width: float, 
     if j is not None:
         roots = factor.solutions.get("values", [])
         ivs = _merge([(max(r - width, lower[j]), min(r + width, upper[j])) for r in roots])
-        detail["proof"] = "exact: the roots of a one-joint factor"
+        detail["proof"] = "exact"          # the roots of a one-joint factor
         return Window(name, factor.kind, factor.expr, factor.joints, float(width), method, n, intervals=ivs,
                       detail=detail)
     if _sampled(factor):
@@ -74,10 +74,10 @@ def window_for_factor(factor: SingularFactor | SingularComponent, width: float, 
         if robot is not None:
             detail["miss"] = point_set_misses(robot, factor, width)
         detail.update({"resolution": factor.resolution, "points": int(len(factor.points)),
-                       "note": "distance over the component's joints to its sampled points",
-                       "proof": "sampled: the component has no formula; the window holds every configuration "
-                                "within the width of its sampled points, so at least the set's "
-                                "(width − resolution)-neighbourhood as far as fresh projections show"})
+                       "proof": "sampled",
+                       "note": "the component has no formula: the window holds every configuration within the "
+                               "width of its sampled points (distance over the component's joints), so the set "
+                               "only as far as its samples reach; miss counts fresh points of the set outside"})
         return PointSetWindow(name, factor.kind, factor.expr, factor.joints, float(width), method, n,
                               points=factor.points[:, cols], detail=detail, normals=factor.local_normals,
                               radius=None if factor.local_normals is None else factor.radius)
@@ -324,6 +324,16 @@ def _canonical(robot, analysis: SingularityAnalysis | None, needs_samples: bool)
     return analysis
 
 
+def _number(x, what: str, allowed: str, low: float, strict: bool = False) -> float:
+    """A real, finite number ≥ ``low`` (> with ``strict``) as a float (−0 read as 0), or WindowError."""
+    if isinstance(x, (bool, str, bytes)) or not isinstance(x, (int, float, np.integer, np.floating)):
+        raise WindowError(f"{what} must be a number {allowed}, got {type(x).__name__} {x!r}")
+    v = float(x) + 0.0
+    if not math.isfinite(v) or v < low or (strict and v == low):
+        raise WindowError(f"{what} {v!r} must be a finite number {allowed}")
+    return v
+
+
 def build_windows(robot, margin: float | Sequence[float] | None = None, sigma_min: float | None = None,
                   manipulability: float | None = None, analysis: SingularityAnalysis | None = None) -> WindowSet:
     """Windows for every singular factor of ``robot``; exactly one width source must be given.
@@ -333,6 +343,8 @@ def build_windows(robot, margin: float | Sequence[float] | None = None, sigma_mi
     The result depends on the robot, the factors and the widths only: no seed enters it (see
     :data:`WINDOW_SEED`); ``analysis`` saves recomputing the singular set.
     """
+    if not (hasattr(robot, "chain") and hasattr(robot, "evaluate")):
+        raise WindowError(f"robot must be a kin.Robot (kin.load_robot(...)), got {type(robot).__name__}")
     given = [x is not None for x in (margin, sigma_min, manipulability)]
     if sum(given) != 1:
         raise WindowError("give exactly one window width source: margin, sigma_min or manipulability")
@@ -344,22 +356,20 @@ def build_windows(robot, margin: float | Sequence[float] | None = None, sigma_mi
         widths = list(margin) if isinstance(margin, (list, tuple, np.ndarray)) else [margin] * len(factors)
         if len(widths) != len(factors):
             raise WindowError(f"{len(widths)} margins given for {len(factors)} singular factors")
-        for w in widths:
-            if isinstance(w, (bool, str)) or not (float(w) >= 0 and math.isfinite(float(w))):
-                raise WindowError(f"margin {w} must be a finite number ≥ 0 (rad for revolute, m for prismatic)")
+        widths = [_number(w, "margin", "≥ 0 (rad for revolute, m for prismatic)", low=0.0) for w in widths]
         method, detail = "margin", {}
     else:
         method = "sigma_min" if sigma_min is not None else "manipulability"
+        threshold = _number(sigma_min if sigma_min is not None else manipulability, method, "> 0 (SI)", low=0.0,
+                            strict=True)
         if analysis.method != "exact":     # the margins absorb points into the components: work on a copy
             analysis = copy.deepcopy(analysis)
             factors = analysis.factors
-        widths, detail = dexterity_margins(robot, analysis, float(sigma_min if sigma_min is not None
-                                                                   else manipulability), method)
+        widths, detail = dexterity_margins(robot, analysis, threshold, method)
     out = [window_for_factor(f, float(w), method, lo, hi, detail, robot=robot) for f, w in zip(factors, widths)]
     ws = WindowSet(robot=robot.name, n=robot.n, windows=out)
     if dexterity:
-        floor = float(sigma_min if sigma_min is not None else manipulability)
-        miss = floor_misses(robot, ws, floor, method)
+        miss = floor_misses(robot, ws, threshold, method)
         for w in ws.windows:
             w.detail["floor"] = miss
     return ws
@@ -378,6 +388,7 @@ def floor_misses(robot, windows: WindowSet, threshold: float, measure: str) -> d
     outside = ~windows.contains(Q)
     res, _ = robot.evaluate(Q[outside], 4 | 8)
     low = int(np.count_nonzero(res["measures"][:, 1 if measure == "sigma_min" else 0] < threshold))
+    n_out = int(outside.sum())
     return {"proof": "sampled", "measure": measure, "threshold": threshold, "fresh_samples": FLOOR_CHECK_SAMPLES,
-            "outside_windows": int(outside.sum()), "below_threshold_outside": low,
-            "miss_rate": low / FLOOR_CHECK_SAMPLES}
+            "outside_windows": n_out, "below_threshold_outside": low,
+            "miss_rate": low / n_out if n_out else 0.0}

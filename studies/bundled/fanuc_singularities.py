@@ -25,10 +25,10 @@ from planning.toolpath import load_toolpath, validate_toolpath
 from planning.windows import build_windows
 from studies.bundled._fanuc_singularities_parts import dh_frames, dh_jacobian, plot_plan, plot_sigma_across_windows
 from studies.cli.toolpath import report_json
-from studies.toolpaths import TOOLPATH_DIR
 from studies.plots.toolpath import plot_toolpath_report
 from studies.report.view3d import robot_view
 from studies.study import Study, main, sections
+from studies.toolpaths import TOOLPATH_DIR
 
 NAME = "fanuc_singularities"
 TITLE = "FANUC M-16iB/20: singularities, error windows, a certified plan and a weld seam"

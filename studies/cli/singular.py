@@ -97,7 +97,8 @@ def _windows_text(robot: kin.Robot, ws) -> str:
     floor = next((w.detail["floor"] for w in ws.windows if isinstance(w.detail.get("floor"), dict)), None)
     if floor:
         lines.append(f"  {floor['measure']} ≥ {floor['threshold']:g} outside the windows is sampled, not proven: "
-                     f"{floor['below_threshold_outside']} of {floor['fresh_samples']} fresh configurations fall below")
+                     f"{floor['below_threshold_outside']} of the {floor['outside_windows']} fresh configurations "
+                     f"outside them (of {floor['fresh_samples']} drawn) fall below")
     if any(getattr(w, "is_point_set", False) for w in ws.windows):
         lines.append("  point-set windows are sampled: they hold the set as far as its samples show, and no path "
                      "near them is called proven")

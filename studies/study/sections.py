@@ -114,8 +114,9 @@ def windows_table(s: Study, robot: kin.Robot, windows, label: str, caption: str 
     floor = next((w.detail["floor"] for w in windows.windows if isinstance(w.detail.get("floor"), dict)), None)
     if floor:
         s.text(f"The widths come from a dexterity threshold ({floor['measure']} ≥ {floor['threshold']:g}), found by "
-               f"sampling: the floor outside the windows is sampled, not proven. On {floor['fresh_samples']} fresh "
-               f"configurations, {floor['below_threshold_outside']} lie outside every window below the threshold.")
+               f"sampling: the floor outside the windows is sampled, not proven. Of {floor['fresh_samples']} fresh "
+               f"configurations, {floor['outside_windows']} lie outside every window, and "
+               f"{floor['below_threshold_outside']} of those below the threshold.")
     total = float(np.mean(windows.contains(Q)))
     res = {"label": label, "windows": out, "share_of_joint_space": total}
     s.results.setdefault("windows", {})[key or label] = res

@@ -384,3 +384,28 @@ def test_windows_do_not_depend_on_the_analysis_seed_or_sample_count():
     d_ref = json.dumps(build_windows(robot, sigma_min=0.02, analysis=A).to_dict())
     other = analyse_singularities(robot, seed=3, samples=60)
     assert json.dumps(build_windows(robot, sigma_min=0.02, analysis=other).to_dict()) == d_ref
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"margin": "0.05"}, "margin must be a number ≥ 0.*got str"),
+    ({"margin": True}, "margin must be a number.*got bool"),
+    ({"margin": 1 + 0j}, "margin must be a number.*got complex"),
+    ({"margin": float("nan")}, "margin nan must be a finite number"),
+    ({"margin": -0.1}, "margin -0.1 must be a finite number ≥ 0"),
+    ({"sigma_min": "0.02"}, "sigma_min must be a number > 0.*got str"),
+    ({"sigma_min": True}, "sigma_min must be a number.*got bool"),
+    ({"sigma_min": 0.0}, "sigma_min 0.0 must be a finite number > 0"),
+    ({"manipulability": float("inf")}, "manipulability inf must be a finite number > 0"),
+])
+def test_width_sources_are_checked(kwargs, match):
+    robot, A = analysed("fanuc_m16ib20")
+    with pytest.raises(WindowError, match=match):
+        build_windows(robot, analysis=A, **kwargs)
+
+
+def test_a_robot_name_is_not_a_robot_and_minus_zero_is_zero():
+    with pytest.raises(WindowError, match="robot must be a kin.Robot.*got str"):
+        build_windows("fanuc_m16ib20", margin=0.05)
+    robot, A = analysed("fanuc_m16ib20")
+    W = build_windows(robot, margin=-0.0, analysis=A)
+    assert all(math.copysign(1.0, w.width) == 1.0 for w in W.windows)
