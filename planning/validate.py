@@ -147,6 +147,8 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
             raise ConfigurationError(f"check step {step:g} {unit} is outside the allowed range [{lo:g}, {hi:g}] {unit}")
     if sigma_min is not None and not (math.isfinite(sigma_min) and sigma_min >= 0):
         raise ConfigurationError(f"σ_min floor {sigma_min} must be a finite number ≥ 0")
+    if windows is not None:
+        windows.check_robot(robot)
     first: Violation | None = None
 
     def note(v: Violation) -> None:

@@ -118,6 +118,8 @@ class SingularityAnalysis:
     #: the seed and the per-factor sample count the zero-set samples (and a numeric analysis) came from
     seed: int = 0
     samples: int = 200
+    #: the robot's content key (:func:`kin.singular.exact.content_key`): which robot this analysis is of
+    content: str = ""
 
     def to_dict(self) -> dict:
         return {"robot": self.robot, "method": self.method, "derivation": self.derivation, "rows": list(self.rows),
@@ -274,7 +276,7 @@ def analyse_singularities(robot, samples: int = 200, seed: int = 0, exact_timeou
                                    lengths=lengths, budget=budget,
                                    derivation=derivation_text(structure["split"], chain.n, rows,
                                                               structure["lengths_numeric"]),
-                                   seed=seed, samples=samples)
+                                   seed=seed, samples=samples, content=content_key(robot))
     t1 = time.perf_counter()
     comps, info = numeric_components(robot, seed=seed, time_limit=float(numeric_time), progress=progress)
     budget.update({"numeric_seconds": time.perf_counter() - t1, **{f"numeric_{k}": v for k, v in info.items()
@@ -284,4 +286,5 @@ def analyse_singularities(robot, samples: int = 200, seed: int = 0, exact_timeou
                   f"(the exact path: {budget['exact_status']} after {budget['exact_seconds']:.1f} s)")
     return SingularityAnalysis(robot=chain.name, factors=comps, method="numeric",
                                rows=tuple(ROW_NAMES[r] for r in rows), seconds=time.perf_counter() - t0,
-                               lengths={}, derivation=derivation, budget=budget, seed=seed, samples=samples)
+                               lengths={}, derivation=derivation, budget=budget, seed=seed, samples=samples,
+                               content=content_key(robot))

@@ -162,6 +162,8 @@ def follow_path(robot, path, q0, windows: WindowSet | Sequence[Window] | None = 
                               "tolerances > 0)")
     vmax = joint_velocity_limits(robot, v_max)
     lo, hi = robot.chain.lower, robot.chain.upper
+    if isinstance(windows, WindowSet):
+        windows.check_robot(robot)
     wlist = list(windows.windows if isinstance(windows, WindowSet) else (windows or []))
     for w in wlist:
         if w.n != n:

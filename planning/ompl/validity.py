@@ -56,8 +56,7 @@ class JointSpaceChecker:
         self._predicate_windows = []    # the same windows, for batches (Window.contains, numpy)
         widths_rev, widths_len = [MAX_MOTION_STEP_ANGLE * 5], [MAX_MOTION_STEP_LENGTH * 5]
         if windows is not None:
-            if windows.n != self.n:
-                raise PlanningError(f"windows are for a {windows.n}-joint robot; {self.chain.name} has {self.n} joints")
+            windows.check_robot(robot)
             for w in windows.windows:
                 revolute = any(self.revolute[j - 1] for j in w.joints)
                 (widths_rev if revolute else widths_len).append(2 * w.width if w.width > 0 else math.inf)

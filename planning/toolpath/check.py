@@ -108,9 +108,8 @@ def validate_toolpath(robot, toolpath: ToolPath, windows: WindowSet | None = Non
         raise ConfigurationError(f"sigma_min must be a finite number ≥ 0, got {sigma_min}")
     if not (limit_clearance >= 0 and math.isfinite(limit_clearance)):
         raise ConfigurationError(f"limit_clearance must be a finite number ≥ 0 (rad or m), got {limit_clearance}")
-    if windows is not None and windows.n != n:
-        raise ConfigurationError(f"windows are for a {windows.n}-joint robot ({windows.robot}); "
-                                 f"{chain.name} has {n} joints")
+    if windows is not None:
+        windows.check_robot(robot)
     if mode == "auto":
         mode = "pose" if (toolpath.has_orientation and len(robot.task_rows) == 6) else "position"
     pose = mode == "pose"

@@ -11,11 +11,12 @@ from typing import Sequence
 import numpy as np
 
 from kin.singular import SingularComponent, SingularFactor, SingularityAnalysis, analyse_singularities
+from kin.singular.exact import content_key
 
 from planning.certify.gradient import gradient_bound, zero_free
 from planning.certify.intervals import IntervalError
 from planning.errors import WindowError
-from planning.windows.model import Window, WindowSet
+from planning.windows.model import Window, WindowSet, robot_key
 from planning.windows.sampled import PointSetWindow
 
 #: dexterity margins are widened by this factor beyond the last sample they had to include
@@ -319,6 +320,9 @@ def _canonical(robot, analysis: SingularityAnalysis | None, needs_samples: bool)
         joints = f" ({bad[0].n} joints)" if bad else ""
         raise WindowError(f"analysis is of {analysis.robot!r}{joints}, not of {robot.name!r} ({robot.n} joints): "
                           "pass the analysis of the same robot, or none")
+    if analysis.content and analysis.content != content_key(robot):
+        raise WindowError(f"analysis is of another robot named {robot.name!r} (other DH values, limits or task "
+                          "rows): pass the analysis of this robot, or none")
     if needs_samples and (analysis.seed, analysis.samples) != (WINDOW_SEED, WINDOW_SAMPLES):
         return analyse_singularities(robot, samples=WINDOW_SAMPLES, seed=WINDOW_SEED)
     return analysis
@@ -367,7 +371,7 @@ def build_windows(robot, margin: float | Sequence[float] | None = None, sigma_mi
             factors = analysis.factors
         widths, detail = dexterity_margins(robot, analysis, threshold, method)
     out = [window_for_factor(f, float(w), method, lo, hi, detail, robot=robot) for f, w in zip(factors, widths)]
-    ws = WindowSet(robot=robot.name, n=robot.n, windows=out)
+    ws = WindowSet(robot=robot.name, n=robot.n, windows=out, robot_key=robot_key(robot))
     if dexterity:
         miss = floor_misses(robot, ws, threshold, method)
         for w in ws.windows:

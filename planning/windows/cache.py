@@ -6,10 +6,12 @@ content (frozen DH table, joint types, convention, base, tool, limits, units, ta
 request (for example ``{"margin": 0.05}`` in the robot file's units, or ``{"sigma_min": 0.02}``),
 the version of the window rule (:data:`RULE_VERSION`, raised whenever the construction changes) and
 the version of sympy (which prints the factors).  Files live under
-``<kin.compiled.cache_dir()>/windows/``; a file is read back with the full validation of
-:meth:`WindowSet.load` (JSON, never code) and used only when it names the same robot and key — a
-damaged or foreign file is ignored and rebuilt.  The cache never changes a window: a hit returns
-what a rebuild would.
+``<kin.compiled.cache_dir()>/windows/``; a file records its key and is read back with the full
+validation of :meth:`WindowSet.from_dict` (JSON, never code), and used only when it holds that key
+and was built for the same robot (:meth:`WindowSet.check_robot`) — a damaged, foreign or misplaced
+file is ignored and rebuilt.  A hit returns what a rebuild gives — except for a chain whose exact
+analysis did not finish within its budget: its windows come from the numeric analysis this machine
+could do when they were first built (delete the folder to retry).
 """
 from __future__ import annotations
 
@@ -23,12 +25,12 @@ from typing import Callable
 from kin.compiled import cache_dir
 from kin.errors import RmtError
 
-from planning.windows.model import WindowSet
+from planning.windows.model import WindowSet, robot_key
 
 __all__ = ["RULE_VERSION", "window_key", "cache_path", "load_cached", "store", "cached"]
 
 #: raised whenever the construction of a window changes (old files are then simply not found)
-RULE_VERSION = 3
+RULE_VERSION = 4
 #: a cache file larger than this is not read
 MAX_BYTES = 256 << 20
 
@@ -42,15 +44,8 @@ def _version(name: str) -> str:
 
 def window_key(robot, request: dict) -> str:
     """Hash of everything the windows of ``robot`` for ``request`` (plain JSON data) depend on."""
-    chain = robot.chain.frozen()
-    content = {"rule": RULE_VERSION, "sympy": _version("sympy"), "request": request,
-               "convention": chain.convention, "types": list(chain.joint_types),
-               "dh": [[repr(float(x)) for x in row] for row in chain.dh_table()],
-               "base": [repr(float(x)) for x in chain.base.matrix.ravel()],
-               "tool": [repr(float(x)) for x in chain.tool.matrix.ravel()],
-               "limits": [[repr(float(lo)), repr(float(hi))] for lo, hi in zip(chain.lower, chain.upper)],
-               "units": [repr(float(chain.angle_scale)), repr(float(chain.length_scale))],
-               "rows": [int(r) for r in robot.task_rows], "name": chain.name}
+    content = {"rule": RULE_VERSION, "sympy": _version("sympy"), "request": request, "robot": robot_key(robot),
+               "name": robot.chain.name}
     return hashlib.sha256(json.dumps(content, sort_keys=True).encode()).hexdigest()[:32]
 
 
@@ -61,24 +56,29 @@ def cache_path(robot, key: str) -> Path:
 
 
 def load_cached(robot, key: str) -> WindowSet | None:
-    """The stored windows of ``robot`` under ``key``, or None when absent, damaged or foreign."""
+    """The stored windows of ``robot`` under ``key``, or None when absent, damaged, foreign or
+    written under another key."""
     path = cache_path(robot, key)
     try:
         if not path.is_file() or path.stat().st_size > MAX_BYTES:
             return None
-        ws = WindowSet.load(path)
-    except (OSError, RmtError):
-        return None
-    if ws.robot != robot.name or ws.n != robot.n:
+        d = json.loads(path.read_text(encoding="utf-8"))
+        if not isinstance(d, dict) or d.get("cache_key") != key:
+            return None
+        ws = WindowSet.from_dict(d, str(path))
+        ws.check_robot(robot)
+    except (OSError, UnicodeDecodeError, ValueError, RecursionError, RmtError):
         return None
     return ws
 
 
 def store(robot, key: str, windows: WindowSet) -> Path | None:
-    """Write ``windows`` under ``key`` (atomically, :func:`kin.output.write_output`); None when the
-    cache directory is not writable (the windows are then simply rebuilt next time)."""
+    """Write ``windows`` under ``key`` (atomically, :func:`kin.output.write_output`; the file records
+    its key); None when the cache directory is not writable (the windows are then rebuilt next time)."""
+    from kin.output import write_output
+    text = json.dumps({"cache_key": key, **windows.to_dict()}, allow_nan=False)
     try:
-        return windows.save(cache_path(robot, key))
+        return write_output(cache_path(robot, key), text + "\n")
     except (OSError, RmtError):
         return None
 

@@ -3,8 +3,10 @@ predicate |g(q)| ≤ ε) and :class:`WindowSet` (all of a robot's windows: batch
 See :mod:`planning.windows` for what a window is."""
 from __future__ import annotations
 
+import hashlib
 import json
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -175,13 +177,42 @@ class Window:
                    method=d["method"], n=n, intervals=intervals, epsilon=epsilon, detail=dict(detail), _tree=tree)
 
 
+def robot_key(robot) -> str:
+    """Hash of everything a robot's windows depend on: its chain's frozen DH table, joint types,
+    convention, base, tool, limits and units, and its task rows (not its name)."""
+    chain = robot.chain.frozen()
+    content = {"convention": chain.convention, "types": list(chain.joint_types),
+               "dh": [[repr(float(x)) for x in row] for row in chain.dh_table()],
+               "base": [repr(float(x)) for x in chain.base.matrix.ravel()],
+               "tool": [repr(float(x)) for x in chain.tool.matrix.ravel()],
+               "limits": [[repr(float(lo)), repr(float(hi))] for lo, hi in zip(chain.lower, chain.upper)],
+               "units": [repr(float(chain.angle_scale)), repr(float(chain.length_scale))],
+               "rows": [int(r) for r in robot.task_rows]}
+    return hashlib.sha256(json.dumps(content, sort_keys=True).encode()).hexdigest()[:32]
+
+
 @dataclass
 class WindowSet:
-    """All windows of one robot; membership is the union."""
+    """All windows of one robot; membership is the union.  ``robot_key`` (:func:`robot_key`) names
+    the robot's content when known, so that windows are never applied to another robot."""
 
     robot: str
     n: int
     windows: list[Window | PointSetWindow]
+    robot_key: str | None = None
+
+    def check_robot(self, robot, what: str = "windows") -> None:
+        """Raise :class:`WindowError` unless these windows were built for ``robot``: the same content
+        (when the set records it) or else the same name, and the same number of joints."""
+        if self.n != robot.n:
+            raise WindowError(f"{what} are for a {self.n}-joint robot ({self.robot!r}); {robot.name} has "
+                              f"{robot.n} joints")
+        if self.robot_key is not None:
+            if self.robot_key != robot_key(robot):
+                raise WindowError(f"{what} were built for another robot ({self.robot!r}: other DH values, limits, "
+                                  f"units or task rows than {robot.name!r}); build them for this robot")
+        elif self.robot != robot.name:
+            raise WindowError(f"{what} are of {self.robot!r}, not of {robot.name!r}; build them for this robot")
 
     def membership(self, Q) -> np.ndarray:
         """(N, k) boolean: configuration i inside window j."""
@@ -204,8 +235,10 @@ class WindowSet:
         return bool(inside[0]) if single else inside
 
     def to_dict(self) -> dict:
-        return {"robot": self.robot, "n": self.n, "units": "SI (rad, m)",
-                "windows": [w.to_dict() for w in self.windows]}
+        d = {"robot": self.robot, "n": self.n, "units": "SI (rad, m)"}
+        if self.robot_key is not None:
+            d["robot_key"] = self.robot_key
+        return {**d, "windows": [w.to_dict() for w in self.windows]}
 
     def save(self, path: str | Path) -> Path:
         """Write JSON with :func:`kin.output.write_output` (atomic; never replaces anything but a
@@ -221,7 +254,14 @@ class WindowSet:
         except FileNotFoundError:
             raise WindowError(f"{path}: no such windows file") from None
         except (OSError, UnicodeDecodeError, ValueError, RecursionError) as e:
-            raise WindowError(f"{path}: not a readable JSON windows file ({str(e).splitlines()[0] if str(e) else type(e).__name__})") from None
+            why = str(e).splitlines()[0] if str(e) else type(e).__name__
+            raise WindowError(f"{path}: not a readable JSON windows file ({why})") from None
+        return cls.from_dict(d, str(path))
+
+    @classmethod
+    def from_dict(cls, d, where: str = "windows") -> "WindowSet":
+        """A WindowSet from its JSON form (:meth:`to_dict`), every entry validated."""
+        path = where
         if not isinstance(d, dict) or not isinstance(d.get("windows"), list):
             raise WindowError(f"{path}: needs fields robot, n (integer) and windows (list)")
         n = d.get("n")
@@ -230,6 +270,9 @@ class WindowSet:
         robot = d.get("robot", "")
         if not isinstance(robot, str):
             raise WindowError(f"{path}: robot must be a string")
-        return cls(robot=robot, n=n,
+        key = d.get("robot_key")
+        if key is not None and not (isinstance(key, str) and re.fullmatch(r"[0-9a-f]{32}", key)):
+            raise WindowError(f"{path}: robot_key must be 32 hexadecimal digits, got {key!r}")
+        return cls(robot=robot, n=n, robot_key=key,
                    windows=[(PointSetWindow if is_point_set_entry(w) else Window).from_dict(w, n, str(path))
                             for w in d["windows"]])

@@ -83,6 +83,25 @@ def test_bad_input_fails_clearly(fanuc):
         assert_path_valid(robot, np.full((2, 6), np.nan))
 
 
+@pytest.mark.parametrize("floor", [float("nan"), float("inf"), -0.01, "0.01", True])
+def test_a_bad_sigma_floor_is_refused_not_ignored(fanuc, floor):
+    """A NaN floor once passed silently a path through the wrist singularity (σ_min ≈ 1e-17)."""
+    robot, _ = fanuc
+    through = np.array([[0.0, -0.3, 0.4, 0.2, 0.8, 0.0], [0.0, -0.3, 0.4, 0.2, -0.8, 0.0]])
+    with pytest.raises(kin.ConfigurationError, match="sigma_floor"):
+        assert_path_valid(robot, through, sigma_floor=floor)
+    with pytest.raises(AssertionError, match="σ_min"):
+        assert_path_valid(robot, through, sigma_floor=0.01)
+
+
+def test_windows_of_another_robot_are_refused(fanuc):
+    _, ws = fanuc
+    puma = kin.load_robot("puma560")
+    from planning.errors import WindowError
+    with pytest.raises(WindowError, match="another robot"):
+        assert_path_valid(puma, np.zeros((2, 6)), windows=ws)
+
+
 def test_toolpaths():
     scara = kin.load_robot("scara_rrp")
     assert_toolpath_valid(scara, load_toolpath(ROOT / "studies/toolpaths/scara_line.csv", scara))

@@ -48,7 +48,21 @@ def test_a_damaged_or_foreign_file_is_rebuilt(fresh_cache, content):
     calls = []
     ws = cached(robot, {"margin": 0.05}, _build(robot, calls))
     assert calls == [1] and len(ws.windows) == 3
-    assert json.loads(path.read_text()) == json.loads(json.dumps(ws.to_dict()))     # repaired
+    d = json.loads(path.read_text())                                                  # repaired
+    assert d.pop("cache_key") == window_key(robot, {"margin": 0.05})
+    assert d == json.loads(json.dumps(ws.to_dict()))
+
+
+def test_a_file_moved_under_another_key_is_not_used(fresh_cache):
+    """A valid file of the 0.3 windows copied onto the 0.05 file's name: it records its own key."""
+    robot = kin.load_robot("fanuc_m16ib20")
+    wide = cached(robot, {"margin": 0.3}, lambda: build_windows(robot, margin=0.3))
+    src = cache_path(robot, window_key(robot, {"margin": 0.3}))
+    dst = cache_path(robot, window_key(robot, {"margin": 0.05}))
+    dst.write_text(src.read_text())
+    calls = []
+    ws = cached(robot, {"margin": 0.05}, _build(robot, calls))
+    assert calls == [1] and [w.width for w in ws.windows] == [0.05] * 3 and wide.windows[0].width == 0.3
 
 
 def test_the_key_follows_content_and_width():
@@ -61,3 +75,4 @@ def test_the_key_follows_content_and_width():
     assert "limits = [-2.4, 2.4]" in text
     moved = kin.Robot(kin.loads_robot(text))
     assert window_key(moved, {"margin": 0.05}) != window_key(fanuc, {"margin": 0.05})
+
