@@ -147,6 +147,22 @@ def windows_from_args(robot: kin.Robot, margin: float | None, sigma_min: float |
     return cached(robot, request, build)
 
 
+def sampled_windows_note(ws, floor_hint: str) -> str | None:
+    """One line for stderr when some windows are sampled (point-set windows of a numeric analysis):
+    how much of their singular set they miss, and that a verdict then does not exclude singular
+    configurations; None when every window is exact or proven."""
+    sampled = [w for w in (ws.windows if ws is not None else []) if getattr(w, "is_point_set", False)]
+    if not sampled:
+        return None
+    missed = sum((w.detail.get("miss") or {}).get("outside_window") or 0 for w in sampled)
+    fresh = sum((w.detail.get("miss") or {}).get("fresh_set_points") or 0 for w in sampled)
+    share = f": together they miss {missed} of {fresh} fresh points of the singular set" if fresh else ""
+    many = len(sampled) != 1
+    return (f"note: {len(sampled)} window{'s' if many else ''} of this robot {'are' if many else 'is'} sampled (its "
+            f"singular set was found numerically){share}, so a path clear of them may still pass near or through "
+            f"a singularity; {floor_hint}")
+
+
 def jsonable(obj):
     """numpy values → plain Python; NaN and infinities → None (strict JSON)."""
     if isinstance(obj, dict):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -14,7 +15,8 @@ from kin.output import write_output
 from kin.transforms import make_transform, rpy_to_matrix
 
 from studies.cli.common import (MAX_SIGMA, MAX_TIME_LIMIT, CliInputError, bounded, dump, joint_values, numbers,
-                                output_file, positions, require_task_rows, seed, windows_from_args)
+                                output_file, positions, require_task_rows, sampled_windows_note, seed,
+                                windows_from_args)
 from studies.units import joint_units
 
 
@@ -99,6 +101,9 @@ def cmd_plan(args, load_robot) -> int:
         goal_pose = make_transform(rpy_to_matrix(rpy), xyz)
     boxes = _keep_out(c, args)
     ws = windows_from_args(robot, args.margin, args.sigma_min)
+    note = sampled_windows_note(ws, "check the path with `rmt check-path --sigma-floor S`, which proves a σ_min floor")
+    if note:
+        print(note, file=sys.stderr)
     res = plan(robot, start, goal, ws, goal_pose=goal_pose, planner=args.planner, time_limit=args.time_limit,
                seed=args.seed, objective=args.objective, boxes=boxes)
     if goal is None:
@@ -174,6 +179,10 @@ def cmd_check_path(args, load_robot) -> int:
         if used and not lo <= step <= hi:
             raise CliInputError(f"--step {args.step:g} is outside the allowed range [{lo / scale:.3g}, "
                                 f"{hi / scale:.3g}] {unit} for the {kind} joints of {c.name}")
+    if args.sigma_floor is None:
+        note = sampled_windows_note(ws, "add --sigma-floor S to prove σ_min ≥ S along the path")
+        if note:
+            print(note, file=sys.stderr)
     chk = check_path(robot, P, ws, sigma_min=args.sigma_floor, step_angle=step_angle, step_length=step_length)
     fv = chk.first_violation
     out = {"valid": chk.valid,

@@ -87,6 +87,29 @@ def test_windows_of_a_numeric_analysis_do_not_follow_the_seed(capsys):
         assert (m["outside_window"] > 0) == (m["largest_distance"] > w["width"])
 
 
+PANDA_THROUGH = """q1,q2,q3,q4,q5,q6,q7
+-1.502480420981592069,-0.06943993719121679953,-1.606061048800166091,-1.310360171321739209,-1.928642496754534363,1.395724077301940591,2.040144920656581817
+-1.532058326214370325,0.06943993719131730247,-1.498018659474466219,-1.601324110132232192,-2.131372778977080884,1.376967408642998825,1.994835137110473333
+"""
+
+
+def test_sampled_windows_are_said_and_a_sigma_floor_catches_what_they_miss(capsys, tmp_path):
+    """A Panda path through an exact singularity (σ_min ≈ 1e-14 between its rows, found by a tester)
+    that the sampled windows miss: check-path says the windows are sampled and how much they miss,
+    and --sigma-floor proves the path invalid."""
+    path = tmp_path / "through.csv"
+    path.write_text(PANDA_THROUGH)
+    robot = kin.load_robot("franka_panda")
+    P = np.loadtxt(path, delimiter=",", skiprows=1)
+    t = np.linspace(0, 1, 2001)[:, None]
+    assert robot.sigma_min(P[0] + t * (P[1] - P[0])).min() < 1e-6          # it does pass a singularity
+    rc, out, err = _cli(["check-path", "franka_panda", str(path), "--margin", "0.05"], capsys)
+    assert "windows sampled" in out and "are sampled" in err and "fresh points of the singular set" in err
+    rc, out, err = _cli(["check-path", "franka_panda", str(path), "--margin", "0.05", "--sigma-floor", "0.01"],
+                        capsys)
+    assert rc == 1 and "INVALID" in out and "sigma_min" in out
+
+
 # ---- every returned path is accepted, for every seed ------------------------------------------------
 def test_the_issue_query_is_accepted_by_check_path_for_seeds_0_to_19(capsys, tmp_path):
     for seed in range(20):
