@@ -342,7 +342,9 @@ def _solve(robot, cls, checker: JointSpaceChecker, start_q, goal_q, time_limit, 
     status = pl.solve(float(time_limit) * (0.7 if roadmap_objective else 1.0))
     text = str(status)
     if not bool(status) or not pdef.hasExactSolution():
-        return None, None, f"no exact solution ({text})"
+        why = {"Approximate solution": f"only an approximate one within {float(time_limit):g} s",
+               "Timeout": f"time limit {float(time_limit):g} s reached"}.get(text, f"OMPL: {text}")
+        return None, None, f"no exact solution: {why}"
     path = pdef.getSolutionPath()
     raw = np.array([[path.getState(k)[i] for i in range(n)] for k in range(path.getStateCount())])
     if roadmap_objective:

@@ -106,8 +106,6 @@ def _windows_text(robot: kin.Robot, ws) -> str:
 
 
 def cmd_windows(args, load_robot) -> int:
-    from planning.windows import build_windows
-    from planning.windows.build import WINDOW_SEED
     output_file(args.out)
     robot = require_task_rows(load_robot(args.robot))
     c = robot.chain
@@ -115,6 +113,8 @@ def cmd_windows(args, load_robot) -> int:
     if not args.learned and args.exact_timeout is None:     # as plan and check-path build them (cached)
         ws = windows_from_args(robot, args.margin, args.sigma_min)
     elif not args.learned:
+        from planning.windows import build_windows
+        from planning.windows.build import WINDOW_SEED
         # margin and σ_min windows come from the analysis with the windows' own seed, whatever --seed says
         analysis = _analyse(robot, args, seed=WINDOW_SEED)
         if args.margin is not None:
