@@ -83,11 +83,15 @@ def store(robot, key: str, windows: WindowSet) -> Path | None:
         return None
 
 
-def cached(robot, request: dict, build: Callable[[], WindowSet]) -> WindowSet:
-    """The windows of ``robot`` for ``request`` from the cache, or ``build()`` stored for next time."""
+def cached(robot, request: dict, build: Callable[[], WindowSet],
+           unstored: Callable[[str], None] | None = None) -> WindowSet:
+    """The windows of ``robot`` for ``request`` from the cache, or ``build()`` stored for next time;
+    ``unstored(message)`` is told when they could not be stored (they are then rebuilt next time)."""
     key = window_key(robot, request)
     ws = load_cached(robot, key)
     if ws is None:
         ws = build()
-        store(robot, key, ws)
+        if store(robot, key, ws) is None and unstored is not None:
+            unstored(f"the windows could not be stored in {cache_path(robot, key).parent} (not a writable "
+                     "directory): they are rebuilt on every run; set RMTKIT_CACHE to a writable directory")
     return ws

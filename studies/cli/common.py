@@ -4,6 +4,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 from typing import Sequence
 
 import numpy as np
@@ -144,7 +145,7 @@ def windows_from_args(robot: kin.Robot, margin: float | None, sigma_min: float |
             return build_windows(robot, margin=factor_margins(robot.chain, analysis, margin), analysis=analysis)
         return build_windows(robot, sigma_min=sigma_min, analysis=analysis)
     request = {"margin": float(margin)} if margin is not None else {"sigma_min": float(sigma_min)}
-    return cached(robot, request, build)
+    return cached(robot, request, build, unstored=lambda text: print(f"note: {text}", file=sys.stderr))
 
 
 def sampled_windows_note(ws, floor_hint: str) -> str | None:

@@ -76,3 +76,14 @@ def test_the_key_follows_content_and_width():
     moved = kin.Robot(kin.loads_robot(text))
     assert window_key(moved, {"margin": 0.05}) != window_key(fanuc, {"margin": 0.05})
 
+
+
+def test_an_unwritable_cache_is_said_and_the_windows_still_right(tmp_path, monkeypatch):
+    blocker = tmp_path / "a_file"
+    blocker.write_text("not a directory")
+    monkeypatch.setenv("RMTKIT_CACHE", str(blocker))
+    robot = kin.load_robot("fanuc_m16ib20")
+    said = []
+    ws = cached(robot, {"margin": 0.05}, lambda: build_windows(robot, margin=0.05), unstored=said.append)
+    assert len(ws.windows) == 3 and len(said) == 1 and "could not be stored" in said[0]
+    assert blocker.read_text() == "not a directory"
