@@ -1,2 +1,5 @@
-"""rmtkit planning: singular error windows, OMPL joint-path planning, path following, timing and
-dense path validation.  (Grows with the planning issue; depends on ``kin`` only.)"""
+"""rmtkit planning: singular error windows (:mod:`planning.windows`), proofs about joint paths
+(:mod:`planning.certify`), OMPL joint-path planning (:mod:`planning.ompl`), tool paths
+(:mod:`planning.toolpath`), path following (:mod:`planning.follow`), time parameterisation
+(:mod:`planning.timing`), path validation (:mod:`planning.validate`) and assertions for users' own
+test suites (:mod:`planning.testing`).  Depends on ``kin`` only."""

@@ -31,11 +31,6 @@ def display_text(e: sp.Expr) -> str:
     return sp.sstr(e, full_prec=False)
 
 
-def pretty(expr: sp.Expr) -> str:
-    """Readable form: floats with up to 6 significant digits, trig combined when it shortens it."""
-    return display_text(display_form(expr))
-
-
 def lambdify_factor(expr: sp.Expr, n: int):
     q = sp.symbols(f"q1:{n + 1}", real=True)
     f = sp.lambdify([q], expr, modules="numpy")

@@ -125,13 +125,6 @@ class _MotionValidator(ob.MotionValidator):
         return self.checker.motion_valid(a, b)
 
 
-def singularity_cost(robot, path: np.ndarray, step: float, scale: float = SINGULARITY_SCALE) -> float:
-    """The ``singularity`` objective of a joint path (M, n), SI: its length plus ∫ scale/σ_min ds, the
-    integral by the trapezoid rule over sub-states at most ``step`` apart (as OMPL's
-    StateCostIntegralObjective with interpolation)."""
-    return float(_edge_costs(robot, path[:-1], path[1:], step, scale).sum())
-
-
 def _edge_costs(robot, A: np.ndarray, B: np.ndarray, step: float, scale: float) -> np.ndarray:
     """Length + ∫ scale/σ_min ds of every straight motion A[k] → B[k] (K, n) → (K,); the sub-state
     spacing is ``step``, widened when the motions would need more than :data:`MAX_COST_STATES`."""
