@@ -16,16 +16,16 @@ import os
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 from kin.chain import Chain, Joint, Parameter, Placement
-from kin.errors import (ChainError, CompileError, ConfigurationError, JointLimitError, OutBufferError, ParameterError,
-                        RmtError, RobotFileError, SettingError, UnknownRobotError)
+from kin.errors import (ArgumentError, ChainError, CompileError, ConfigurationError, JointLimitError, OutBufferError,
+                        ParameterError, RmtError, RobotFileError, SettingError, UnknownRobotError)
 from kin.robotfile import bundled_robots, dumps_robot, load_chain, loads_robot, save_robot
 
 _LAZY = {"Robot", "Measures", "load_robot"}
 
 __all__ = ["Chain", "Joint", "Parameter", "Placement", "Robot", "Measures", "load_robot", "load_chain",
            "loads_robot", "dumps_robot", "save_robot", "bundled_robots", "RmtError", "RobotFileError",
-           "UnknownRobotError", "ChainError", "ConfigurationError", "JointLimitError", "ParameterError",
-           "CompileError", "OutBufferError", "SettingError"]
+           "UnknownRobotError", "ArgumentError", "ChainError", "ConfigurationError", "JointLimitError",
+           "ParameterError", "CompileError", "OutBufferError", "SettingError"]
 
 
 def __getattr__(name: str):

@@ -28,6 +28,11 @@ class UnknownRobotError(RmtError):
     """A robot name is neither bundled nor an existing file."""
 
 
+class ArgumentError(RmtError, ValueError):
+    """An argument of a Python API call is outside its allowed values (an unknown method name, a
+    bad option); the message names the argument and what is allowed."""
+
+
 class ChainError(RmtError):
     """A chain is built or transformed inconsistently (programmatic API)."""
 

@@ -18,7 +18,7 @@ from typing import NamedTuple
 import numpy as np
 
 from kin.compiled import WANT_J, WANT_T
-from kin.errors import ConfigurationError
+from kin.errors import ArgumentError, ConfigurationError
 from kin.transforms import rotation_error
 
 MODES = ("auto", "pose", "position")
@@ -98,7 +98,7 @@ class Problem(NamedTuple):
 def prepare(robot, T, q0, mode: str, params, tol_position: float, tol_orientation: float) -> Problem:
     """Validate an IK request: target shapes and values, mode, q0, parameters, tolerances."""
     if mode not in MODES:
-        raise ValueError(f"mode {mode!r} unknown; allowed: {', '.join(MODES)}")
+        raise ArgumentError(f"mode {mode!r} unknown; allowed: {', '.join(MODES)}")
     for name, tol in (("tol_position", tol_position), ("tol_orientation", tol_orientation)):
         if not (math.isfinite(tol) and tol > 0):
             raise ConfigurationError(f"IK {name} = {tol} must be a positive finite number")

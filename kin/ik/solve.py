@@ -10,7 +10,7 @@ configuration).
 """
 from __future__ import annotations
 
-from kin.errors import CompileError, ConfigurationError
+from kin.errors import ArgumentError, CompileError, ConfigurationError
 from kin.ik import numeric
 from kin.ik.compiled import compiled_ik
 from kin.ik.numeric import IKResult, prepare
@@ -45,7 +45,7 @@ def solve_ik(robot, T, seed: int = 0, q0=None, mode: str = "auto", restarts: int
     the smallest residual found.
     """
     if method not in METHODS:
-        raise ValueError(f"method {method!r} unknown; allowed: {', '.join(METHODS)}")
+        raise ArgumentError(f"method {method!r} unknown; allowed: {', '.join(METHODS)}")
     if method == "numeric":
         return numeric.solve_ik(robot, T, seed=seed, q0=q0, mode=mode, restarts=restarts, rounds=rounds,
                                 max_iter=max_iter, tol_position=tol_position, tol_orientation=tol_orientation,
@@ -83,7 +83,7 @@ def local_ik(robot, T, q, mode: str = "auto", max_iter: int = 150, tol_position:
     Arguments and result as :func:`solve_ik`; success False when this one run does not converge.
     """
     if method not in METHODS:
-        raise ValueError(f"method {method!r} unknown; allowed: {', '.join(METHODS)}")
+        raise ArgumentError(f"method {method!r} unknown; allowed: {', '.join(METHODS)}")
     if q is None:
         raise ConfigurationError("local IK needs a warm start q")
     solver = None if method == "numeric" else compiled_ik(robot)

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from kin.errors import ConfigurationError
 from kin.singular.evaluate import batch_function
 from kin.singular.tree import Node, derivative, variables
 
@@ -78,7 +79,7 @@ def _start(lower, upper, n: int) -> tuple[np.ndarray, np.ndarray]:
     lo = np.asarray(lower, dtype=float).reshape(1, n).copy()
     hi = np.asarray(upper, dtype=float).reshape(1, n).copy()
     if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(lo <= hi)):
-        raise ValueError("the joint box needs finite limits with lower ≤ upper")
+        raise ConfigurationError("the joint box needs finite limits with lower ≤ upper")
     return lo, hi
 
 

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from kin.errors import ConfigurationError
 from kin.singular.expression import parse_tree
 from kin.singular.tree import Node
 
@@ -159,9 +160,9 @@ def certify_path(windows, path, max_depth: int = MAX_DEPTH, max_pieces: int = MA
     P = np.asarray(path, dtype=float)
     if P.ndim != 2 or len(P) == 0 or (windows is not None and P.shape[1] != windows.n):
         n = "n" if windows is None else windows.n
-        raise ValueError(f"path has shape {P.shape}; expected (M, {n}) with M ≥ 1")
+        raise ConfigurationError(f"path has shape {P.shape}; expected (M, {n}) with M ≥ 1")
     if not np.isfinite(P).all():
-        raise ValueError("path holds NaN or infinite values")
+        raise ConfigurationError("path holds NaN or infinite values")
     proof = PathProof(True, None)
     if windows is None or not windows.windows:
         return proof
