@@ -26,10 +26,11 @@ Windows save to and load from JSON; membership of a batch is vectorised.
 The values are in :mod:`planning.windows.model`, their construction in :mod:`planning.windows.build`,
 built windows kept on disk in :mod:`planning.windows.cache`.
 """
+from planning.windows.base import WindowBase
 from planning.windows.model import METHODS, Window, WindowSet
 from planning.windows.sampled import PointSetWindow
 
-__all__ = ["Window", "WindowSet", "PointSetWindow", "METHODS", "build_windows", "dexterity_margins",
+__all__ = ["WindowBase", "Window", "WindowSet", "PointSetWindow", "METHODS", "build_windows", "dexterity_margins",
            "window_for_factor"]
 
 #: built on first use: building needs the symbolic side of kin.singular (sympy), using built

@@ -20,6 +20,7 @@ from kin.singular.expression import ExpressionError, parse_tree
 from kin.singular.tree import Node
 
 from planning.errors import WindowError
+from planning.windows.base import WindowBase
 from planning.windows.sampled import PointSetWindow, is_point_set_entry
 
 METHODS = ("margin", "sigma_min", "manipulability", "learned")
@@ -41,20 +42,13 @@ def _batch(Q, n: int) -> tuple[np.ndarray, bool]:
 
 
 @dataclass
-class Window:
-    """One singular window (SI units).
+class Window(WindowBase):
+    """One singular window with a formula (SI units; the common fields are :class:`WindowBase`'s).
 
     ``intervals`` (single-joint factor): list of (lo, hi) on joint ``joints[0]`` (1-based);
     ``epsilon`` (other factors): |g(q)| ≤ ε with g = ``expr`` in q1…qn.
     """
 
-    name: str
-    kind: str
-    expr: str
-    joints: tuple[int, ...]
-    width: float
-    method: str
-    n: int
     intervals: list[tuple[float, float]] | None = None
     epsilon: float | None = None
     detail: dict = field(default_factory=dict)
@@ -198,7 +192,7 @@ class WindowSet:
 
     robot: str
     n: int
-    windows: list[Window | PointSetWindow]
+    windows: list[WindowBase]
     robot_key: str | None = None
 
     def check_robot(self, robot, what: str = "windows") -> None:

@@ -16,11 +16,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
 from planning.errors import WindowError
+from planning.windows.base import WindowBase
 
 if TYPE_CHECKING:
     from scipy.spatial import cKDTree
@@ -30,27 +31,24 @@ MAX_POINTS = 1_000_000
 
 
 @dataclass
-class PointSetWindow:
-    """A window around sampled points (SI units); ``points`` (K, len(joints)) over ``joints`` (1-based)."""
+class PointSetWindow(WindowBase):
+    """A window around sampled points (SI units; the common fields are :class:`WindowBase`'s);
+    ``points`` (K, len(joints)) over ``joints`` (1-based)."""
 
-    name: str
-    kind: str
-    expr: str
-    joints: tuple[int, ...]
-    width: float
-    method: str
-    n: int
     points: np.ndarray
     detail: dict = field(default_factory=dict)
     normals: np.ndarray | None = None
     radius: np.ndarray | None = None
     _tree: cKDTree | None = field(default=None, repr=False, compare=False)
 
-    is_point_set = True
-    is_interval = False
+    is_point_set: ClassVar[bool] = True
     joint = None
     intervals = None
     epsilon = None
+
+    @property
+    def is_interval(self) -> bool:
+        return False
 
     def __post_init__(self):
         self.joints = tuple(int(j) for j in self.joints)

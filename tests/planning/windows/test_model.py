@@ -101,3 +101,14 @@ def test_wrong_shapes_and_types_raise():
         ws.contains(np.zeros(6, complex))
     assert ws.contains(np.zeros(6)) in (True, False)
     assert ws.contains(np.zeros((0, 6))).shape == (0,)
+
+
+def test_every_window_is_a_window_base():
+    import numpy as np
+    from planning.windows import PointSetWindow, Window, WindowBase
+    w = Window("wrist: sin(q5)", "wrist", "sin(q5)", (5,), 0.05, "margin", 6, intervals=[(-0.05, 0.05)])
+    p = PointSetWindow("other: x", "other", "x", (2, 3), 0.05, "margin", 6, points=np.zeros((1, 2)))
+    assert isinstance(w, WindowBase) and isinstance(p, WindowBase)
+    assert (w.is_interval, w.is_point_set, p.is_interval, p.is_point_set) == (True, False, False, True)
+    with pytest.raises(TypeError):
+        WindowBase("x", "other", "x", (1,), 0.1, "margin", 6)       # abstract: only its kinds are windows
