@@ -1,8 +1,8 @@
-"""Helpers shared by the ``rmt`` commands: number parsing, windows from the command line, JSON."""
+"""Helpers shared by the ``rmt`` commands: number parsing and windows from the command line (JSON is
+:mod:`studies.jsonio`)."""
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 from typing import Sequence
@@ -163,25 +163,3 @@ def sampled_windows_note(ws, floor_hint: str) -> str | None:
             f"singular set was found numerically){share}, so a path clear of them may still pass near or through "
             f"a singularity; {floor_hint}")
 
-
-def jsonable(obj):
-    """numpy values → plain Python; NaN and infinities → None (strict JSON)."""
-    if isinstance(obj, dict):
-        return {str(k): jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return jsonable(obj.tolist())
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (np.floating, float)):
-        x = float(obj)
-        return x if math.isfinite(x) else None
-    if isinstance(obj, np.integer):
-        return int(obj)
-    return obj
-
-
-def dump(obj) -> str:
-    """One line of strict JSON."""
-    return json.dumps(jsonable(obj), allow_nan=False)

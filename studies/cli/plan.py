@@ -14,9 +14,9 @@ import kin
 from kin.output import write_output
 from kin.transforms import make_transform, rpy_to_matrix
 
-from studies.cli.common import (MAX_SIGMA, MAX_TIME_LIMIT, CliInputError, bounded, dump, joint_values, numbers,
-                                output_file, positions, require_task_rows, sampled_windows_note, seed,
-                                windows_from_args)
+from studies.cli.common import (MAX_SIGMA, MAX_TIME_LIMIT, CliInputError, bounded, joint_values, numbers, output_file,
+                                positions, require_task_rows, sampled_windows_note, seed, windows_from_args)
+from studies.jsonio import dump, finite_or_none
 from studies.units import joint_units
 
 
@@ -26,14 +26,6 @@ MAX_PATH_BYTES = 100_000_000
 
 class PathFileError(kin.RmtError):
     """A joint-path CSV file is missing or invalid."""
-
-
-
-def _num(x):
-    return None if x is None or not math.isfinite(x) else float(x)
-
-
-
 
 
 def path_csv_text(robot, path_si: np.ndarray) -> str:
@@ -112,7 +104,7 @@ def cmd_plan(args, load_robot) -> int:
     if args.out and res.success:
         write_path_csv(robot, res.path, args.out)
     out = {"success": res.success, "path": path_file.tolist(), "planner": res.planner, "time_s": res.time_s,
-           "length": _num(res.length), "min_sigma": _num(res.min_sigma),
+           "length": finite_or_none(res.length), "min_sigma": finite_or_none(res.min_sigma),
            "windows": [] if ws is None else [w.name for w in ws.windows],
            "straight_line_valid": res.straight_line_valid, "status": res.status,
            "proven": res.proven, "checks": None if res.check is None else
@@ -187,7 +179,7 @@ def cmd_check_path(args, load_robot) -> int:
     fv = chk.first_violation
     out = {"valid": chk.valid,
            "first_violation": None if fv is None else {"index": fv.index, "kind": fv.kind, "detail": fv.detail},
-           "min_sigma": _num(chk.min_sigma), "min_sigma_index": chk.min_sigma_index,
+           "min_sigma": finite_or_none(chk.min_sigma), "min_sigma_index": chk.min_sigma_index,
            "checked_states": chk.checked_states, "rows": int(len(P)),
            "windows_check": chk.windows_check, "sigma_check": chk.sigma_check}
     if args.json:

@@ -5,8 +5,9 @@ from __future__ import annotations
 import math
 
 import kin
-from studies.cli.common import (MAX_SIGMA, CliInputError, bounded, dump, factor_margins, output_file,
-                                require_task_rows, seed, windows_from_args)
+from studies.cli.common import (MAX_SIGMA, CliInputError, bounded, factor_margins, output_file, require_task_rows,
+                                seed, windows_from_args)
+from studies.jsonio import dump
 
 #: the most joint-space samples ``rmt workspace`` takes
 MAX_SAMPLES = 10_000_000

@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 
 import kin
-from studies.cli.common import (MAX_SIGMA, bounded, jsonable, numbers, output_file, require_task_rows, seed,
-                                windows_from_args)
+from studies.cli.common import MAX_SIGMA, bounded, numbers, output_file, require_task_rows, seed, windows_from_args
+from studies.jsonio import finite_or_none, jsonable
 from studies.toolpaths import TOOLPATH_DIR, bundled_toolpaths, toolpath_file
 from studies.units import joint_units, unit_names
 
@@ -50,13 +50,6 @@ def _per_joint(robot: kin.Robot, values, what: str) -> np.ndarray | None:
     return arr * robot.chain.variable_scale
 
 
-def _num(x):
-    if x is None:
-        return None
-    x = float(x)
-    return x if math.isfinite(x) else None
-
-
 def report_json(report, robot: kin.Robot, waypoints: bool = False) -> dict:
     """The CLI's JSON object of a :class:`~planning.toolpath.ToolPathReport`: SI summary converted to
     the robot file's units (σ_min stays SI)."""
@@ -77,7 +70,8 @@ def report_json(report, robot: kin.Robot, waypoints: bool = False) -> dict:
         "min_manipulability": d["min_manipulability"],
         "max_position_error": None if d["max_position_error"] is None else d["max_position_error"] / L,
         "max_orientation_error": None if d["max_orientation_error"] is None else d["max_orientation_error"] / A,
-        "min_limit_margin": [_num(m) for m in (margins[reach].min(axis=0) if reach.any() else np.full(c.n, np.nan))],
+        "min_limit_margin": [finite_or_none(m) for m in (margins[reach].min(axis=0) if reach.any()
+                                                         else np.full(c.n, np.nan))],
         "max_joint_speed": None if d["max_joint_speed"] is None else (np.array(d["max_joint_speed"]) / var).tolist(),
         "max_speed_ratio": d["max_speed_ratio"],
         "counts": report.counts, "windows": report.window_names,

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 import kin
-from studies.cli.common import jsonable
+from studies.jsonio import jsonable
 from studies.report.html import format_value
 from studies.study import kinematics as ks
 from studies.study.context import Study
