@@ -24,7 +24,7 @@ from planning.errors import PlanningError
 from planning.toolpath import load_toolpath, validate_toolpath
 from planning.windows import build_windows
 from studies.bundled._fanuc_singularities_parts import dh_frames, dh_jacobian, plot_plan, plot_sigma_across_windows
-from studies.cli.toolpath import report_json
+from studies.study.toolpath import toolpath_json
 from studies.plots.toolpath import plot_toolpath_report
 from studies.report.view3d import robot_view
 from studies.study import Study, main, sections
@@ -355,7 +355,7 @@ def run(s: Study) -> None:
         s.code(SEAM_FILE.read_text(encoding="utf-8"), f"The tool path `{SEAM_FILE.name}`.", collapsed=True)
         rep = validate_toolpath(robot, seam, windows=w_sigma, start_q=np.array(SEAM_START), branch_seed=seed,
                                 sigma_min=threshold)
-        d = report_json(rep, robot)
+        d = toolpath_json(rep, robot)
         q0 = rep.q[0]
         branch = {f.kind: float(f(q0[None])[0]) for f in factors}
         same_branch = all(np.all(np.sign(f(rep.q)) == np.sign(branch[f.kind])) for f in factors)

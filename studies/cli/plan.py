@@ -15,8 +15,10 @@ from kin.output import write_output
 from kin.transforms import make_transform, rpy_to_matrix
 
 from studies.cli.common import (MAX_SIGMA, MAX_TIME_LIMIT, CliInputError, bounded, joint_values, numbers, output_file,
-                                positions, require_task_rows, sampled_windows_note, seed, windows_from_args)
+                                positions, sampled_windows_note, seed, windows_from_args)
+from studies.jointpath import path_csv_text
 from studies.jsonio import dump, finite_or_none
+from studies.taskrows import require_task_rows
 from studies.units import joint_units
 
 
@@ -26,16 +28,6 @@ MAX_PATH_BYTES = 100_000_000
 
 class PathFileError(kin.RmtError):
     """A joint-path CSV file is missing or invalid."""
-
-
-def path_csv_text(robot, path_si: np.ndarray) -> str:
-    """A joint path as CSV text in the robot file's units (header q1..qn; values exact to the bit)."""
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    w.writerow([f"q{i + 1}" for i in range(robot.n)])
-    for row in robot.chain.from_si(np.asarray(path_si, float)):
-        w.writerow([repr(float(x)) for x in row])
-    return buf.getvalue()
 
 
 def write_path_csv(robot, path_si: np.ndarray, out: str | Path) -> Path:
