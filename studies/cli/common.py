@@ -133,4 +133,3 @@ def sampled_windows_note(ws, floor_hint: str) -> str | None:
     return (f"note: {len(sampled)} window{'s' if many else ''} of this robot {'are' if many else 'is'} sampled (its "
             f"singular set was found numerically){share}, so a path clear of them may still pass near or through "
             f"a singularity; {floor_hint}")
-
