@@ -22,6 +22,11 @@ def jacobian_to_file(chain: Chain, J: np.ndarray) -> np.ndarray:
     return out
 
 
+def joint_value_to_file(chain: Chain, joint: int, v: float) -> float:
+    """A value of joint ``joint`` (1-based) in SI → the file's unit of that joint."""
+    return v / chain.variable_scale[joint - 1]
+
+
 def unit_names(chain: Chain) -> dict[str, str]:
     return {"length": chain.length_unit, "angle": chain.angle_unit}
 

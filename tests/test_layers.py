@@ -1,5 +1,7 @@
-"""The import structure: layers point one way (studies → design → planning → kin) and no module
-imports itself back through a circle.
+"""The import structure: layers point one way (studies → design → planning → kin), the parts of
+``studies`` point one way too (the command line on top, the study engine below it, reports and plots
+below that; :data:`STUDIES_PARTS`), a bundled study stands alone, and no module imports itself back
+through a circle.
 
 Every ``import``/``from … import`` in every module counts, including those inside functions and
 under ``if TYPE_CHECKING`` (a circle that only typing hides is still a circle).  A ``from P import
@@ -15,6 +17,23 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 LAYERS = ["kin", "planning", "design", "studies"]     # each may import only those before it (and itself)
+#: what each part of ``studies`` may import of ``studies`` besides itself.  "studies" stands for the
+#: package's own modules (studies/*.py: units, strict JSON, joint paths, task rows, the drawing task),
+#: the bottom: they import no sub-package.  The command line is on top and nothing imports it; the
+#: benchmarks use the bottom only.
+STUDIES_PARTS = {
+    "studies": set(),
+    "studies.toolpaths": set(),
+    "studies.report": {"studies"},
+    "studies.plots": {"studies"},
+    "studies.study": {"studies", "studies.report", "studies.plots", "studies.toolpaths"},
+    "studies.bundled": {"studies", "studies.study", "studies.report", "studies.plots", "studies.toolpaths"},
+    "studies.benchmarks": {"studies"},
+    "studies.cli": {"studies", "studies.study", "studies.report", "studies.plots", "studies.toolpaths",
+                    "studies.bundled"},
+}
+#: folders of ``studies`` that hold data only, no Python: bundled sweep files, design tasks
+STUDIES_DATA = {"studies.sweeps", "studies.tasks"}
 
 
 def _modules() -> dict[str, Path]:
@@ -75,6 +94,65 @@ def test_the_walk_sees_the_project():
 def test_imports_point_down(name):
     upward = sorted(t for t in GRAPH[name] if _layer(t) > _layer(name))
     assert not upward, f"{name} ({LAYERS[_layer(name)]}) imports a higher layer: {upward}"
+
+
+# ---- the parts of studies ------------------------------------------------------------------------------
+def _part(mod: str) -> str:
+    """The part of ``studies`` a module belongs to: its sub-package, or "studies" for the package's own modules."""
+    head = ".".join(mod.split(".")[:2])
+    return head if head in STUDIES_PARTS else "studies"
+
+
+STUDIES_MODULES = sorted(m for m in MODULES if m.split(".")[0] == "studies")
+BUNDLED_STUDIES = sorted(m for m in MODULES if m.startswith("studies.bundled."))
+
+
+def test_every_folder_of_studies_has_its_place():
+    # a new sub-package would otherwise count as the bottom and pass everything below
+    folders = {f"studies.{d.name}": d for d in (ROOT / "studies").iterdir() if d.is_dir() and d.name != "__pycache__"}
+    assert set(folders) == (set(STUDIES_PARTS) | STUDIES_DATA) - {"studies"}
+    for name in STUDIES_DATA:
+        assert not list(folders[name].rglob("*.py")), f"{name} is listed as data only"
+    assert {_part(m) for m in STUDIES_MODULES} == set(STUDIES_PARTS)
+    assert BUNDLED_STUDIES and "studies.study.context" in GRAPH["studies.study.run"]
+
+
+def test_the_parts_of_studies_form_no_circle():
+    assert _cycles({part: set(allowed) for part, allowed in STUDIES_PARTS.items()}) == []
+
+
+@pytest.mark.parametrize("name", STUDIES_MODULES)
+def test_parts_of_studies_point_down(name):
+    part = _part(name)
+    allowed = STUDIES_PARTS[part]
+    wrong = sorted(t for t in GRAPH[name] if t.split(".")[0] == "studies" and _part(t) not in allowed | {part})
+    assert not wrong, (f"{name} ({part}) imports {wrong}; {part} may import "
+                       f"{', '.join(sorted(allowed)) or 'no other part of studies'}")
+
+
+@pytest.mark.parametrize("name", BUNDLED_STUDIES)
+def test_a_bundled_study_stands_alone(name):
+    """A bundled study is a plain script: copied anywhere it runs, so it imports nothing of
+    studies.bundled, nothing relative and nothing private (a module or name starting with "_")."""
+    tree = ast.parse(MODULES[name].read_text(), filename=str(MODULES[name]))
+    bad = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            pairs = [(a.name, None) for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.module != "__future__":
+            if node.level:
+                bad.append(f"relative import (line {node.lineno})")
+                continue
+            pairs = [(node.module, a.name) for a in node.names]
+        else:
+            continue
+        for module, attr in pairs:
+            if module.split(".")[0] not in LAYERS:
+                continue                                    # numpy, matplotlib, the standard library
+            private = [p for p in module.split(".") + ([attr] if attr else []) if p.startswith("_")]
+            if private or module.startswith("studies.bundled") or attr and module == "studies" and attr == "bundled":
+                bad.append(f"{module}{'.' + attr if attr else ''} (line {node.lineno})")
+    assert not bad, f"{name} imports what a copy of it would not have: {bad}"
 
 
 def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:

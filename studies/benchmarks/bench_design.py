@@ -27,7 +27,7 @@ from design.coverage import coverage
 from design.optimise import VerifySettings, optimise
 from design.optimise.grid import grid_search
 from design.task import load_task
-from studies.cli.common import dump
+from studies.jsonio import dump
 
 TASKS = "studies/tasks"
 

@@ -37,7 +37,7 @@ import numpy as np
 import kin
 from kin.ik.analytic import analytic_ik
 from studies.benchmarks.peers import dh_pre_post, rtb_robot
-from studies.cli.common import dump
+from studies.jsonio import dump
 
 DEFAULT_ROBOT = "fanuc_m16ib20"
 SEED = 20240611

@@ -50,7 +50,7 @@ from kin.compiled import WANT_J, WANT_MANIP, WANT_T, default_threads
 from studies.benchmarks.kin_report import format_report
 from studies.benchmarks.load import ForeignLoad, busy_process
 from studies.benchmarks.peers import fd_jacobian, pinocchio_batch, pinocchio_loops, rtb_batch, rtb_loops
-from studies.cli.common import dump
+from studies.jsonio import dump
 
 DEFAULT_ROBOT = "fanuc_m16ib20"
 SEED = 20240611

@@ -52,7 +52,7 @@ from planning.ompl.planner import plan
 from planning.validate import check_path
 from planning.windows import build_windows
 from studies.benchmarks.plan_pairs import MAX_DRAWS, Connectivity, crosses_window, draw_pairs, naive_plan
-from studies.cli.common import dump
+from studies.jsonio import dump
 
 ROBOTS = ("fanuc_m16ib20", "puma560", "ur3_homework")
 MARGIN = 0.05            # rad, half-width of every window

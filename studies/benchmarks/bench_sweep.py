@@ -32,7 +32,7 @@ from pathlib import Path
 from design.sweep import DaskExecutor, Design, LocalExecutor, Store, loads_sweep, read_sweep, run_sweep
 from design.sweep.evaluate import Outcome
 from design.task import load_task
-from studies.cli.common import dump
+from studies.jsonio import dump
 
 ROBOT = Path(__file__).resolve().parents[1] / "tasks" / "robots" / "scara_design.toml"
 

@@ -35,7 +35,7 @@ import numpy as np
 
 import kin
 from planning.timing import BlendedPath, blend_path, time_parameterize
-from studies.cli.common import dump
+from studies.jsonio import dump
 
 WAYPOINTS = 100
 GRIDS = (301, 1001)

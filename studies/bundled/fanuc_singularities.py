@@ -23,11 +23,12 @@ from design.learned.windows import jsonable_report, learned_windows
 from planning.errors import PlanningError
 from planning.toolpath import load_toolpath, validate_toolpath
 from planning.windows import build_windows
-from studies.bundled._fanuc_singularities_parts import dh_frames, dh_jacobian, plot_plan, plot_sigma_across_windows
-from studies.cli.toolpath import report_json
+from studies.plots.plan import plot_plan
 from studies.plots.toolpath import plot_toolpath_report
+from studies.plots.windows import plot_sigma_across_windows
 from studies.report.view3d import robot_view
 from studies.study import Study, main, sections
+from studies.study.toolpath import toolpath_json
 from studies.toolpaths import TOOLPATH_DIR
 
 NAME = "fanuc_singularities"
@@ -54,11 +55,30 @@ SEAM_FILE = TOOLPATH_DIR / "fanuc_weld_seam.toml"
 SEAM_START = [-0.26, -0.8, 3.24, 0.36, 0.8, 2.62]
 
 
-def _interval_text(w) -> str:
-    """Where a window is, in words: q_j ∈ [..] ∪ [..] rad, or |g| ≤ ε."""
-    if w.is_interval:
-        return f"q{w.joint + 1} ∈ " + " ∪ ".join(f"[{a:.4g}, {b:.4g}]" for a, b in w.intervals) + " rad"
-    return f"|{w.kind} factor| ≤ {w.epsilon:.3g} m"
+# ---- an independent DH product: plain numpy, written from the DH table of docs/machines.md §3 -----
+def dh_frames(dh: list[tuple[float, float, float]], q) -> list[np.ndarray]:
+    """Frames 0…n (4×4 each) of an all-revolute standard-DH chain: rows (a, α, d), joint i adds
+    A_i = Rz(q_i)·Tz(d_i)·Tx(a_i)·Rx(α_i)."""
+    T = np.eye(4)
+    frames = [T]
+    for (a, alpha, d), th in zip(dh, np.asarray(q, float)):
+        ct, st, ca, sa = np.cos(th), np.sin(th), np.cos(alpha), np.sin(alpha)
+        A = np.array([[ct, -st * ca, st * sa, a * ct],
+                      [st, ct * ca, -ct * sa, a * st],
+                      [0.0, sa, ca, d],
+                      [0.0, 0.0, 0.0, 1.0]])
+        T = T @ A
+        frames.append(T)
+    return frames
+
+
+def dh_jacobian(dh: list[tuple[float, float, float]], q, point=None) -> np.ndarray:
+    """Geometric Jacobian (6×n, rows vx vy vz wx wy wz) of the point ``point`` (default: the tool
+    origin) fixed to the last link; column i = (z_{i−1} × (p − o_{i−1}), z_{i−1})."""
+    F = dh_frames(dh, q)
+    p = F[-1][:3, 3] if point is None else np.asarray(point, float)
+    cols = [np.concatenate([np.cross(T[:3, 2], p - T[:3, 3]), T[:3, 2]]) for T in F[:-1]]
+    return np.stack(cols, axis=1)
 
 
 def run(s: Study) -> None:
@@ -105,7 +125,7 @@ def run(s: Study) -> None:
         rows.append([f"{n_random:,} random configurations (seed {seed}): largest", dp.max(), dR.max(), dJ.max()])
         s.table(["configuration", "|p − p_numpy| (m)", "max |R − R_numpy|", "max |J − J_numpy| (SI)"], rows,
                 "rmtkit's compiled forward kinematics and Jacobian against a plain numpy DH product written from "
-                "the table of docs/machines.md §3 (`studies/bundled/_fanuc_singularities_parts.py`).", fmt=".3g")
+                "the table of docs/machines.md §3 (`dh_frames` and `dh_jacobian` in this study's script).", fmt=".3g")
         s.results["fk_check"] = {"q_zero": {"position": T[0, :3, 3].tolist(), "reference": Q_ZERO_POSITION,
                                             "position_deviation": p0_dev, "rotation_deviation_from_identity": R0_dev},
                                  "numpy_dh": {"configurations": int(len(Q)), "max_position_deviation": float(dp.max()),
@@ -355,7 +375,7 @@ def run(s: Study) -> None:
         s.code(SEAM_FILE.read_text(encoding="utf-8"), f"The tool path `{SEAM_FILE.name}`.", collapsed=True)
         rep = validate_toolpath(robot, seam, windows=w_sigma, start_q=np.array(SEAM_START), branch_seed=seed,
                                 sigma_min=threshold)
-        d = report_json(rep, robot)
+        d = toolpath_json(rep, robot)
         q0 = rep.q[0]
         branch = {f.kind: float(f(q0[None])[0]) for f in factors}
         same_branch = all(np.all(np.sign(f(rep.q)) == np.sign(branch[f.kind])) for f in factors)

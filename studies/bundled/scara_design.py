@@ -9,8 +9,8 @@ thesis SCARA of docs/machines.md with its arms made design parameters, 100 … 4
 any method returns is verified the same way: a target counts as covered when inverse kinematics
 finds a configuration inside the joint limits that reaches it with the required σ_min
 (`design.coverage`).  The closed form of the SCARA's reach (an annulus |A1 − A2| ≤ r ≤ A1 + A2 cut
-by the joint limits, with σ_min a function of the elbow angle) is computed beside it as an
-independent check.  Times are wall times measured in this run on this machine.
+by the joint limits, with σ_min a function of the elbow angle; `studies.study.scara`) is computed
+beside it as an independent check.  Times are wall times measured in this run on this machine.
 """
 from __future__ import annotations
 
@@ -20,6 +20,8 @@ import time
 from pathlib import Path
 
 import numpy as np
+from matplotlib.figure import Figure
+from matplotlib.patches import Patch
 
 import kin
 import studies
@@ -31,12 +33,12 @@ from design.sweep import LocalExecutor, loads_sweep, read_sweep, run_sweep, writ
 from design.sweep.export import pareto_front
 from design.task import load_task
 from design.workspace import compute_workspace
-from studies.bundled import _scara_design_parts as parts
-from studies.plots.design import plot_history
+from studies.plots.design import design_plane_figure, plot_history
 from studies.plots.sweep import plot_pareto
 from studies.report.html import format_value as num
 from studies.report.view3d import robot_view
 from studies.study import Study, main
+from studies.study.scara import closed_form_map, closed_form_optimum, scara_covered, scara_sigma
 
 NAME = "scara_design"
 TITLE = "SCARA design: arm lengths for coverage, IPOPT against the grid, and a sweep"
@@ -122,7 +124,7 @@ def study(s: Study, scratch: Path) -> None:
         s.code(TASK.read_text(encoding="utf-8"), "studies/tasks/scara_box.toml", collapsed=True)
         nominal = c.parameter_values.copy()
         cov0 = coverage(robot, task.targets, task.dexterity, nominal, settings.seeds, settings.samples, settings.seed)
-        s.figure(parts.task_figure(mm * P, tuple(nominal), c.lower, c.upper, sigma), "task",
+        s.figure(task_figure(mm * P, tuple(nominal), c.lower, c.upper, sigma), "task",
                  "The targets seen from above, with the region the nominal design (A1 = A2 = 225 mm) reaches "
                  f"with σ_min ≥ {sigma:g} m/rad shaded (closed form).")
         s.text(f"The nominal design (A1 = {mm * nominal[0]:g} mm, A2 = {mm * nominal[1]:g} mm, Σ(|a|+|d|) = "
@@ -165,7 +167,7 @@ def study(s: Study, scratch: Path) -> None:
                f"({ip.verification.flips} seed-dependent verdicts); with 8 IK seeds and 50 000 samples "
                f"{100 * cov_big.fraction:.0f} % ({cov_big.flips} flips).  Time {ip.time_s:.2f} s, including the "
                "screening of the starts and the verification.")
-        s.figure(parts.optimum_figure(mm * P, tuple(p_ip), ip.verification, c.lower, c.upper, sigma), "optimum",
+        s.figure(optimum_figure(mm * P, tuple(p_ip), ip.verification, c.lower, c.upper, sigma), "optimum",
                  "The optimum seen from above: where it reaches with the required dexterity (closed form, shaded), "
                  "each target coloured by the best σ_min IK found there, and the arm at the least dexterous "
                  "target — the far corners, which set the length.")
@@ -221,14 +223,14 @@ def study(s: Study, scratch: Path) -> None:
                          "generations": de.solver["generations"], "time_s": de.time_s}
 
     with s.section("Closed-form check"):
-        # the SCARA's reach in closed form (see _scara_design_parts): independent of IK and of the optimisers
-        cf = parts.closed_form_optimum(P, c.lower, c.upper, sigma, z0, bounds)
+        # the SCARA's reach in closed form (studies.study.scara): independent of IK and of the optimisers
+        cf = closed_form_optimum(P, c.lower, c.upper, sigma, z0, bounds)
         L_cf = mm * (cf.sum() + z0)
-        cf_ip = parts.scara_covered([p_ip[0]], [p_ip[1]], P, c.lower, c.upper, sigma, z0)[0]
-        grid_cf = parts.scara_covered(grid.P[:, 0], grid.P[:, 1], P, c.lower, c.upper, sigma, z0).all(axis=1)
+        cf_ip = scara_covered([p_ip[0]], [p_ip[1]], P, c.lower, c.upper, sigma, z0)[0]
+        grid_cf = scara_covered(grid.P[:, 0], grid.P[:, 1], P, c.lower, c.upper, sigma, z0).all(axis=1)
         disagree = int(np.sum(grid_cf != grid.feasible))
         axis = np.linspace(bounds[0, 0], bounds[0, 1], 301)
-        share = parts.closed_form_map(axis, P, c.lower, c.upper, sigma, z0)
+        share = closed_form_map(axis, P, c.lower, c.upper, sigma, z0)
         A1g, A2g = np.repeat(axis, len(axis)), np.tile(axis, len(axis))     # share.ravel()'s order
         flat = (share.ravel() >= 1) & (A1g + A2g <= cf.sum() + 1e-3)          # covering, ≤ 1 mm longer
         valley = [mm * A1g[flat].min(), mm * A1g[flat].max()] if flat.any() else [None, None]
@@ -245,7 +247,7 @@ def study(s: Study, scratch: Path) -> None:
                  (f"grid best ({L_grid:.1f} mm)", mm * grid.best[0], mm * grid.best[1], "s", "tab:purple"),
                  (f"DE ({L_de:.1f} mm)", mm * p_de[0], mm * p_de[1], "^", "tab:green"),
                  (f"closed form ({L_cf:.1f} mm)", mm * cf[0], mm * cf[1], "P", "tab:red")]
-        s.figure(parts.design_plane_figure(mm * axis, share, mm * grid.P, grid.feasible, grid_cf, marks, mm * z0,
+        s.figure(design_plane_figure(mm * axis, share, mm * grid.P, grid.feasible, grid_cf, marks, mm * z0,
                                            L_cf), "design_plane",
                  "The design plane: the share of targets covered in closed form (grey scale) with its 100 % "
                  "boundary (green), the grid designs the IK metric finds feasible, the line of the shortest "
@@ -312,6 +314,94 @@ def study(s: Study, scratch: Path) -> None:
               f"{len(front)} designs from {pareto[0]['length_mm']:.0f} mm ({100 * pareto[0]['coverage']:.0f} %) to "
               f"{pareto[-1]['length_mm']:.0f} mm ({100 * pareto[-1]['coverage']:.0f} %).",
               ok=rep.counts["failed"] == 0)
+
+
+# ---- figures (matplotlib's Figure API, no pyplot state) -------------------------------------------
+def arm_points(l1: float, l2: float, q1: float, q2: float) -> np.ndarray:
+    """Base, elbow and tool of the arm in the horizontal plane (3, 2), in the units of l1, l2."""
+    elbow = l1 * np.array([np.cos(q1), np.sin(q1)])
+    return np.array([[0.0, 0.0], elbow, elbow + l2 * np.array([np.cos(q1 + q2), np.sin(q1 + q2)])])
+
+
+def _region(ax, l1: float, l2: float, lower, upper, sigma_min: float, lim: float, colour: str, label: str):
+    """Shade the horizontal region (mm axes) where the design (l1, l2 m) reaches with σ_min ≥ the
+    threshold, in closed form; returns a legend handle."""
+    g = np.linspace(-lim, lim, 401)
+    X, Y = np.meshgrid(g, g)
+    sig = scara_sigma([l1], [l2], np.column_stack([X.ravel(), Y.ravel()]) / 1e3, lower, upper)[0].reshape(X.shape)
+    ok = np.nan_to_num(sig, nan=-1.0) >= sigma_min
+    ax.contourf(X, Y, ok.astype(float), levels=[0.5, 1.5], colors=[colour], alpha=0.35)
+    ax.contour(X, Y, ok.astype(float), levels=[0.5], colors=[colour], linewidths=1.0)
+    return Patch(facecolor=colour, alpha=0.35, edgecolor=colour, label=label)
+
+
+def _plane_axes(ax, lim: float):
+    ax.set_xlim(-lim, lim)
+    ax.set_ylim(-lim, lim)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.ticklabel_format(useOffset=False)
+    ax.grid(alpha=0.3)
+
+
+def task_figure(positions_mm: np.ndarray, nominal_m: tuple[float, float], lower, upper, sigma_min: float) -> Figure:
+    """The targets seen from above, the box they fill, the radii they span, and where the nominal
+    design reaches them with the required dexterity (closed form)."""
+    fig = Figure(figsize=(7.0, 6.2))
+    ax = fig.add_subplot(111)
+    lim = 1.15 * 1e3 * (nominal_m[0] + nominal_m[1])
+    h = _region(ax, *nominal_m, lower, upper, sigma_min, lim, "tab:green",
+                f"nominal A1 = {1e3 * nominal_m[0]:.0f}, A2 = {1e3 * nominal_m[1]:.0f} mm: "
+                f"σ_min ≥ {sigma_min:g} m/rad")
+    lo, hi = positions_mm[:, :2].min(axis=0), positions_mm[:, :2].max(axis=0)
+    box, = ax.plot([lo[0], hi[0], hi[0], lo[0], lo[0]], [lo[1], lo[1], hi[1], hi[1], lo[1]], "k-", lw=1.0,
+                   label="target box")
+    pts = ax.scatter(positions_mm[:, 0], positions_mm[:, 1], s=22, c="tab:blue", zorder=3,
+                     label=f"{len(positions_mm)} targets")
+    r = np.hypot(positions_mm[:, 0], positions_mm[:, 1])
+    t = np.linspace(-np.pi, np.pi, 361)
+    circ = None
+    for rad in (r.min(), r.max()):
+        circ, = ax.plot(rad * np.cos(t), rad * np.sin(t), "k--", lw=0.8,
+                        label=f"target radii {r.min():.0f} … {r.max():.0f} mm")
+    base = ax.scatter([0], [0], marker="s", s=50, c="k", zorder=4, label="base (J1 axis)")
+    _plane_axes(ax, lim)
+    ax.set_title(f"the task seen from above (targets at z = {positions_mm[0, 2]:.0f} mm)")
+    ax.legend(handles=[pts, box, circ, h, base], loc="lower left", fontsize=8)
+    return fig
+
+
+def optimum_figure(positions_mm: np.ndarray, design_m: tuple[float, float], cov, lower, upper,
+                   sigma_min: float) -> Figure:
+    """The optimum seen from above: where it reaches with the required dexterity (closed form,
+    shaded), the targets coloured by the IK-verified best σ_min, and the arm at the target with the
+    smallest σ_min (the one that sets the length)."""
+    fig = Figure(figsize=(7.4, 6.2))
+    ax = fig.add_subplot(111)
+    l1, l2 = design_m
+    lim = 1.15 * 1e3 * (l1 + l2)
+    h = _region(ax, l1, l2, lower, upper, sigma_min, lim, "tab:green",
+                f"σ_min ≥ {sigma_min:g} m/rad (closed form)")
+    ok = cov.covered
+    handles = [h]
+    if ok.any():
+        sc = ax.scatter(positions_mm[ok, 0], positions_mm[ok, 1], c=cov.best[ok], cmap="viridis", s=30, zorder=3,
+                        edgecolors="k", linewidths=0.4, label="target, covered (IK)")
+        fig.colorbar(sc, ax=ax, label="best σ_min at the target (m/rad)", shrink=0.8)
+        handles.append(sc)
+    if (~ok).any():
+        handles.append(ax.scatter(positions_mm[~ok, 0], positions_mm[~ok, 1], c="red", marker="x", s=30, zorder=3,
+                                  label="target, not covered"))
+    k = int(np.nanargmin(np.where(ok, cov.best, np.inf))) if ok.any() else 0
+    arm = arm_points(1e3 * l1, 1e3 * l2, cov.q[k, 0], cov.q[k, 1])
+    line, = ax.plot(arm[:, 0], arm[:, 1], "-o", c="tab:red", lw=2.5, ms=5, zorder=4,
+                    label=f"arm at the least dexterous target (σ_min {cov.best[k]:.3f} m/rad)")
+    handles.append(line)
+    _plane_axes(ax, lim)
+    ax.set_title(f"optimum A1 = {1e3 * l1:.1f} mm, A2 = {1e3 * l2:.1f} mm: {100 * cov.fraction:.0f} % covered")
+    ax.legend(handles=handles, loc="lower left", fontsize=8)
+    return fig
 
 
 if __name__ == "__main__":

@@ -1,8 +1,8 @@
-"""Helpers shared by the ``rmt`` commands: number parsing, windows from the command line, JSON."""
+"""Helpers shared by the ``rmt`` commands: number parsing and windows from the command line (JSON is
+:mod:`studies.jsonio`)."""
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 from typing import Sequence
@@ -74,15 +74,6 @@ def numbers(values: Sequence[str], what: str) -> list[float]:
     return out
 
 
-def require_task_rows(robot: kin.Robot) -> kin.Robot:
-    """Refuse a chain whose tool point never moves (no task rows): its dexterity measures, singular
-    set and windows would be rounding noise (σ_min ≈ 1e-310), not answers."""
-    if not robot.task_rows:
-        raise kin.ChainError(f"{robot.name}: no task rows to control: the tool point never moves (every "
-                             "position row of the Jacobian is identically zero); name rows with task = [...]")
-    return robot
-
-
 def positions(chain, values: Sequence[str], what: str) -> np.ndarray:
     """Coordinates given in the robot file's length unit → SI (m), each within ±10 km."""
     from kin.robotfile import MAX_LENGTH
@@ -103,27 +94,6 @@ def joint_values(robot: kin.Robot, values: Sequence[str], what: str = "joint val
     return robot.chain.to_si(q)
 
 
-def factor_margins(chain: kin.Chain, analysis, margin: float, what: str = "--margin") -> list[float]:
-    """One margin in file units → SI per factor: an angle for factors with a revolute joint, a length
-    for purely prismatic ones.  An angle margin is at most π rad (half a turn); a length margin at
-    most the largest prismatic joint range."""
-    if not (math.isfinite(margin) and margin >= 0):
-        raise CliInputError(f"{what} {margin} must be a finite number ≥ 0 (robot file units)")
-    out = []
-    for f in analysis.factors:
-        if any(chain.joints[j - 1].is_revolute for j in f.joints):
-            m, top, unit = margin * chain.angle_scale, math.pi, chain.angle_unit
-            scale = chain.angle_scale
-        else:
-            m, unit, scale = margin * chain.length_scale, chain.length_unit, chain.length_scale
-            top = max(j.limits[1] - j.limits[0] for j in chain.joints if not j.is_revolute)
-        if m > top:
-            raise CliInputError(f"{what} {margin:g} {unit} is too wide for the {f.kind} window; allowed: "
-                                f"0 to {top / scale:.6g} {unit}")
-        out.append(m)
-    return out
-
-
 def windows_from_args(robot: kin.Robot, margin: float | None, sigma_min: float | None):
     """Windows from ``--margin`` (file units) or ``--sigma-min`` (SI threshold); None when neither.
     The same for every command and seed (:func:`planning.windows.build_windows`); built once per
@@ -142,6 +112,7 @@ def windows_from_args(robot: kin.Robot, margin: float | None, sigma_min: float |
         with TerminalProgress() as progress:
             analysis = analyse_singularities(robot, samples=WINDOW_SAMPLES, seed=WINDOW_SEED, progress=progress)
         if margin is not None:
+            from studies.study.windows import factor_margins
             return build_windows(robot, margin=factor_margins(robot.chain, analysis, margin), analysis=analysis)
         return build_windows(robot, sigma_min=sigma_min, analysis=analysis)
     request = {"margin": float(margin)} if margin is not None else {"sigma_min": float(sigma_min)}
@@ -162,26 +133,3 @@ def sampled_windows_note(ws, floor_hint: str) -> str | None:
     return (f"note: {len(sampled)} window{'s' if many else ''} of this robot {'are' if many else 'is'} sampled (its "
             f"singular set was found numerically){share}, so a path clear of them may still pass near or through "
             f"a singularity; {floor_hint}")
-
-
-def jsonable(obj):
-    """numpy values → plain Python; NaN and infinities → None (strict JSON)."""
-    if isinstance(obj, dict):
-        return {str(k): jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return jsonable(obj.tolist())
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (np.floating, float)):
-        x = float(obj)
-        return x if math.isfinite(x) else None
-    if isinstance(obj, np.integer):
-        return int(obj)
-    return obj
-
-
-def dump(obj) -> str:
-    """One line of strict JSON."""
-    return json.dumps(jsonable(obj), allow_nan=False)

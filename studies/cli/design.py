@@ -8,7 +8,8 @@ from pathlib import Path
 import kin
 from kin.output import write_output
 
-from studies.cli.common import EXIT_FAIL, EXIT_OK, MAX_SIGMA, CliInputError, bounded, dump, jsonable, seed
+from studies.cli.common import EXIT_FAIL, EXIT_OK, MAX_SIGMA, CliInputError, bounded, seed
+from studies.jsonio import dump, jsonable
 
 #: bundled example task files: ``rmt optimise NAME`` finds ``NAME.toml`` here
 TASK_DIR = Path(__file__).parent.parent / "tasks"

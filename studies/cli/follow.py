@@ -6,7 +6,8 @@ import math
 
 import kin
 
-from studies.cli.common import bounded, dump, output_file
+from studies.cli.common import bounded, output_file
+from studies.jsonio import dump
 
 #: the QP follower's task modes (planning.follow.MODES, listed here so that registering the command
 #: does not import OSQP; a test keeps the two equal)

@@ -10,8 +10,9 @@ import kin
 from kin.chain import MAX_PRISMATIC
 from kin.transforms import make_transform, rpy_to_matrix
 
-from studies.cli.common import (EXIT_FAIL, EXIT_OK, CliInputError, dump, joint_values, numbers, positions,
-                                require_task_rows, seed)
+from studies.cli.common import EXIT_FAIL, EXIT_OK, CliInputError, joint_values, numbers, positions, seed
+from studies.jsonio import dump
+from studies.taskrows import require_task_rows
 from studies.units import joint_units, pose_to_file, unit_names
 
 

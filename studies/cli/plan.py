@@ -14,9 +14,11 @@ import kin
 from kin.output import write_output
 from kin.transforms import make_transform, rpy_to_matrix
 
-from studies.cli.common import (MAX_SIGMA, MAX_TIME_LIMIT, CliInputError, bounded, dump, joint_values, numbers,
-                                output_file, positions, require_task_rows, sampled_windows_note, seed,
-                                windows_from_args)
+from studies.cli.common import (MAX_SIGMA, MAX_TIME_LIMIT, CliInputError, bounded, joint_values, numbers, output_file,
+                                positions, sampled_windows_note, seed, windows_from_args)
+from studies.jointpath import path_csv_text
+from studies.jsonio import dump, finite_or_none
+from studies.taskrows import require_task_rows
 from studies.units import joint_units
 
 
@@ -26,24 +28,6 @@ MAX_PATH_BYTES = 100_000_000
 
 class PathFileError(kin.RmtError):
     """A joint-path CSV file is missing or invalid."""
-
-
-
-def _num(x):
-    return None if x is None or not math.isfinite(x) else float(x)
-
-
-
-
-
-def path_csv_text(robot, path_si: np.ndarray) -> str:
-    """A joint path as CSV text in the robot file's units (header q1..qn; values exact to the bit)."""
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    w.writerow([f"q{i + 1}" for i in range(robot.n)])
-    for row in robot.chain.from_si(np.asarray(path_si, float)):
-        w.writerow([repr(float(x)) for x in row])
-    return buf.getvalue()
 
 
 def write_path_csv(robot, path_si: np.ndarray, out: str | Path) -> Path:
@@ -112,7 +96,7 @@ def cmd_plan(args, load_robot) -> int:
     if args.out and res.success:
         write_path_csv(robot, res.path, args.out)
     out = {"success": res.success, "path": path_file.tolist(), "planner": res.planner, "time_s": res.time_s,
-           "length": _num(res.length), "min_sigma": _num(res.min_sigma),
+           "length": finite_or_none(res.length), "min_sigma": finite_or_none(res.min_sigma),
            "windows": [] if ws is None else [w.name for w in ws.windows],
            "straight_line_valid": res.straight_line_valid, "status": res.status,
            "proven": res.proven, "checks": None if res.check is None else
@@ -187,7 +171,7 @@ def cmd_check_path(args, load_robot) -> int:
     fv = chk.first_violation
     out = {"valid": chk.valid,
            "first_violation": None if fv is None else {"index": fv.index, "kind": fv.kind, "detail": fv.detail},
-           "min_sigma": _num(chk.min_sigma), "min_sigma_index": chk.min_sigma_index,
+           "min_sigma": finite_or_none(chk.min_sigma), "min_sigma_index": chk.min_sigma_index,
            "checked_states": chk.checked_states, "rows": int(len(P)),
            "windows_check": chk.windows_check, "sigma_check": chk.sigma_check}
     if args.json:

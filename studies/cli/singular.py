@@ -5,39 +5,13 @@ from __future__ import annotations
 import math
 
 import kin
-from studies.cli.common import (MAX_SIGMA, CliInputError, bounded, dump, factor_margins, output_file,
-                                require_task_rows, seed, windows_from_args)
+from studies.cli.common import MAX_SIGMA, CliInputError, bounded, output_file, seed, windows_from_args
+from studies.jsonio import dump
+from studies.taskrows import require_task_rows
+from studies.units import joint_value_to_file
 
 #: the most joint-space samples ``rmt workspace`` takes
 MAX_SAMPLES = 10_000_000
-from studies.units import unit_names
-
-
-def _value_to_file(chain: kin.Chain, joint: int, v: float) -> float:
-    """A joint value (SI) in the file's unit of that joint (1-based)."""
-    return v / chain.variable_scale[joint - 1]
-
-
-def singularities_json(robot: kin.Robot, analysis) -> dict:
-    chain = robot.chain
-    factors = []
-    for f in analysis.factors:
-        d = f.to_dict()
-        sol = dict(d["solutions"])
-        if sol.get("type") == "values":
-            j = sol["joint"]
-            sol["values_file_units"] = [_value_to_file(chain, j, v) for v in sol["values"]]
-        elif sol.get("type") == "manifold":
-            sol["ranges_file_units"] = {k: None if r is None else [_value_to_file(chain, int(k[1:]), x) for x in r]
-                                        for k, r in sol["ranges"].items()}
-        factors.append({"expr": d["expr"], "kind": d["kind"], "joints": d["joints"], "meaning": d["meaning"],
-                        "solutions": sol, "symbolic": d["symbolic"], "multiplicity": d["multiplicity"],
-                        **{k: d[k] for k in ("lost_motion", "kind_shares", "resolution", "points") if k in d}})
-    return {"robot": chain.name, "factors": factors, "method": analysis.method, "derivation": analysis.derivation,
-            "budget": analysis.budget, "rows": list(analysis.rows),
-            "units": {"expr": "q in rad (revolute) or m (prismatic), lengths in m",
-                      "values": "rad or m; *_file_units in the robot file's units", **unit_names(chain)},
-            "lengths": analysis.lengths, "seconds": analysis.seconds}
 
 
 def _analyse(robot, args, seed: int | None = None):
@@ -51,6 +25,7 @@ def _analyse(robot, args, seed: int | None = None):
 def cmd_singularities(args, load_robot) -> int:
     robot = require_task_rows(load_robot(args.robot))
     analysis = _analyse(robot, args)
+    from studies.study.singular import singularities_json
     out = singularities_json(robot, analysis)
     if args.json:
         print(dump(out))
@@ -84,7 +59,8 @@ def _windows_text(robot: kin.Robot, ws) -> str:
         if w.is_interval:
             j = w.joints[0]
             unit = c.angle_unit if c.joints[j - 1].is_revolute else c.length_unit
-            ivs = " ∪ ".join(f"[{_value_to_file(c, j, lo):.6g}, {_value_to_file(c, j, hi):.6g}]" for lo, hi in w.intervals)
+            ivs = " ∪ ".join(f"[{joint_value_to_file(c, j, lo):.6g}, {joint_value_to_file(c, j, hi):.6g}]"
+                             for lo, hi in w.intervals)
             lines.append(f"  {w.name}\n      q{j} ∈ {ivs or '∅'} {unit}   (half-width {w.width:.6g} SI, {w.method})")
         elif getattr(w, "is_point_set", False):
             lines.append(f"  {w.name}\n      within {w.width:.6g} SI of {len(w.points)} sampled points   ({w.method})")
@@ -118,6 +94,7 @@ def cmd_windows(args, load_robot) -> int:
         # margin and σ_min windows come from the analysis with the windows' own seed, whatever --seed says
         analysis = _analyse(robot, args, seed=WINDOW_SEED)
         if args.margin is not None:
+            from studies.study.windows import factor_margins
             ws = build_windows(robot, margin=factor_margins(c, analysis, args.margin), analysis=analysis)
         else:
             ws = build_windows(robot, sigma_min=args.sigma_min, analysis=analysis)

@@ -6,7 +6,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from studies.cli.common import EXIT_FAIL, EXIT_OK, dump
+from studies.cli.common import EXIT_FAIL, EXIT_OK
+from studies.jsonio import dump
 
 
 def _list() -> str:

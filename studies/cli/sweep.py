@@ -5,7 +5,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from studies.cli.common import EXIT_FAIL, EXIT_OK, CliInputError, dump
+from studies.cli.common import EXIT_FAIL, EXIT_OK, CliInputError
+from studies.jsonio import dump
 
 #: bundled example sweep files: ``rmt sweep NAME`` finds ``NAME.toml`` here
 SWEEP_DIR = Path(__file__).parent.parent / "sweeps"

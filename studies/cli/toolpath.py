@@ -11,12 +11,12 @@ from pathlib import Path
 import numpy as np
 
 import kin
-from studies.cli.common import (MAX_SIGMA, bounded, jsonable, numbers, output_file, require_task_rows, seed,
-                                windows_from_args)
-from studies.toolpaths import TOOLPATH_DIR, bundled_toolpaths, toolpath_file
-from studies.units import joint_units, unit_names
+from studies.cli.common import MAX_SIGMA, bounded, numbers, output_file, seed, windows_from_args
+from studies.taskrows import require_task_rows
+from studies.toolpaths import bundled_toolpaths, toolpath_file
+from studies.units import joint_units
 
-#: bundled example tool paths: ``rmt validate-toolpath ROBOT NAME`` finds ``NAME.toml`` or ``NAME.csv`` here
+
 def _positive(x: float | None, what: str) -> float | None:
     if x is not None and not (math.isfinite(x) and x > 0):
         raise kin.RmtError(f"{what} {x} must be a positive number")
@@ -48,58 +48,6 @@ def _per_joint(robot: kin.Robot, values, what: str) -> np.ndarray | None:
     if np.any(arr <= 0):
         raise kin.RmtError(f"{what}: values must be > 0")
     return arr * robot.chain.variable_scale
-
-
-def _num(x):
-    if x is None:
-        return None
-    x = float(x)
-    return x if math.isfinite(x) else None
-
-
-def report_json(report, robot: kin.Robot, waypoints: bool = False) -> dict:
-    """The CLI's JSON object of a :class:`~planning.toolpath.ToolPathReport`: SI summary converted to
-    the robot file's units (σ_min stays SI)."""
-    from planning.toolpath.check import KINDS
-    c = robot.chain
-    L, A, var = c.length_scale, c.angle_scale, c.variable_scale
-    d = report.summary()
-    fp = report.first_problem
-    reach = report.reachable
-    margins = np.minimum(report.q - c.lower, c.upper - report.q) / var     # per joint, file units
-    out = {
-        "valid": report.ok,
-        "first_problem": None if fp is None else {"index": fp.index, "kind": fp.kind, "detail": fp.detail,
-                                                  "s": fp.s / L, "t": fp.t, "origin": fp.origin},
-        "verdict": report.verdict(),
-        "waypoints": report.n_waypoints, "reachable": int(reach.sum()),
-        "min_sigma": d["min_sigma"], "min_sigma_index": d["min_sigma_index"],
-        "min_manipulability": d["min_manipulability"],
-        "max_position_error": None if d["max_position_error"] is None else d["max_position_error"] / L,
-        "max_orientation_error": None if d["max_orientation_error"] is None else d["max_orientation_error"] / A,
-        "min_limit_margin": [_num(m) for m in (margins[reach].min(axis=0) if reach.any() else np.full(c.n, np.nan))],
-        "max_joint_speed": None if d["max_joint_speed"] is None else (np.array(d["max_joint_speed"]) / var).tolist(),
-        "max_speed_ratio": d["max_speed_ratio"],
-        "counts": report.counts, "windows": report.window_names,
-        "waypoints_in_windows": d["waypoints_in_windows"],
-        "length": report.s[-1] / L, "duration": d["duration"], "mode": report.mode,
-        "robot": report.robot, "source": report.source, "elapsed_s": report.elapsed_s, "stats": report.stats,
-        "units": {**unit_names(c), "joints": joint_units(c), "time": "s", "sigma_min": "SI",
-                  "min_limit_margin": "per joint, file units", "max_joint_speed": "per joint, file units / s"},
-    }
-    if waypoints:
-        qd = report.joint_speed / var
-        out["per_waypoint"] = {
-            "s": (report.s / L).tolist(), "t": None if report.t is None else report.t.tolist(),
-            "q": (report.q / var).tolist(), "reachable": reach.tolist(),
-            "position_error": (report.position_error / L).tolist(),
-            "orientation_error": (report.orientation_error / A).tolist(),
-            "limit_margin": margins.min(axis=1).tolist(), "sigma_min": report.sigma_min.tolist(),
-            "manipulability": report.manipulability.tolist(), "window": report.window.tolist(),
-            "joint_speed": qd.tolist(), "speed_ratio": report.speed_ratio.tolist(),
-            "problems": {k: report.problems(k).tolist() for k in KINDS}}
-    return jsonable(out)
-
 
 
 def report_text(report, robot: kin.Robot) -> str:
@@ -170,7 +118,8 @@ def cmd_validate_toolpath(args, load_robot) -> int:
         from studies.plots.toolpath import plot_toolpath_report
         plot_toolpath_report(report, robot, args.plot)
     if args.json:
-        print(json.dumps(report_json(report, robot, args.waypoints), allow_nan=False))
+        from studies.study.toolpath import toolpath_json
+        print(json.dumps(toolpath_json(report, robot, args.waypoints), allow_nan=False))
     else:
         print(report_text(report, robot))
         if args.plot:

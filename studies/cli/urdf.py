@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from studies.cli.common import EXIT_OK, CliInputError, dump
+from studies.cli.common import EXIT_OK, CliInputError
+from studies.jsonio import dump
 
 
 def _out_path(out: str, suffix: str) -> Path:

@@ -11,8 +11,9 @@ from __future__ import annotations
 import numpy as np
 
 import kin
+from studies.jointpath import densify
 
-__all__ = ["robot_view", "frame_origins", "densify", "MAX_CLOUD_POINTS", "MAX_ANIMATION_FRAMES"]
+__all__ = ["robot_view", "frame_origins", "MAX_CLOUD_POINTS", "MAX_ANIMATION_FRAMES"]
 
 #: at most this many workspace samples are drawn (uniform random subset, seed 0)
 MAX_CLOUD_POINTS = 12_000
@@ -35,19 +36,6 @@ def _frames(robot: kin.Robot, q: np.ndarray) -> np.ndarray:
 def frame_origins(robot: kin.Robot, q) -> np.ndarray:
     """(n+2, 3) origins of the base, the joint frames and the tool, in the robot file's length unit."""
     return _frames(robot, q)[:, :3, 3] / robot.chain.length_scale
-
-
-def densify(Q: np.ndarray, m: int) -> np.ndarray:
-    """``m`` configurations equally spaced in joint-space arc length along the polyline ``Q`` (M, n),
-    its first and last waypoints included (a path of one waypoint is returned as it is)."""
-    Q = np.asarray(Q, float)
-    if len(Q) < 2:
-        return Q.copy()
-    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(Q, axis=0), axis=1))]
-    if s[-1] == 0.0:
-        return np.repeat(Q[:1], m, axis=0)
-    t = np.linspace(0.0, s[-1], m)
-    return np.stack([np.interp(t, s, Q[:, j]) for j in range(Q.shape[1])], axis=1)
 
 
 def _robot_traces(robot: kin.Robot, q: np.ndarray, axis_len: float) -> list[dict]:

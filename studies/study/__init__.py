@@ -1,6 +1,11 @@
 """Studies: the context a study writes into (:class:`Study`), running a study module
 (:func:`run_module`, :func:`main`) or a study file (:func:`run_study`, :func:`load_study`), the
-sections several studies share (:mod:`~studies.study.sections`) and the text report of a study file."""
+sections several studies share (:mod:`~studies.study.sections`) and the text report of a study file.
+
+Helpers studies share, one module each: the singular set as JSON in file units
+(:mod:`~studies.study.singular`), a tool path's validation as JSON (:mod:`~studies.study.toolpath`),
+window margins in file units (:mod:`~studies.study.windows`), the angle between two rotations
+(:mod:`~studies.study.rotations`) and the SCARA in closed form (:mod:`~studies.study.scara`)."""
 from studies.study.context import Study, run_study_function
 from studies.study.kinematics import StudyFileError, load_study
 from studies.study.report import study_report

@@ -30,7 +30,7 @@ import kin
 from kin.output import fresh_directory, write_output
 from kin.robotfile import robot_path
 
-from studies.cli.common import jsonable
+from studies.jsonio import jsonable
 from studies.report import document as rd
 from studies.report.html import render
 

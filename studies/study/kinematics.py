@@ -22,6 +22,7 @@ from kin.output import write_output
 from kin.chain import DH_FIELDS, LENGTH_FIELDS, NAME_RE
 from kin.compiled import numpy_measures
 
+from studies.jsonio import finite_or_none
 from studies.units import jacobian_to_file, joint_units, pose_to_file, unit_names
 
 STUDY_DIR = Path(__file__).parent.parent
@@ -191,19 +192,15 @@ def evaluate_configuration(robot: kin.Robot, q_file) -> dict:
         "T": pose_to_file(chain, T).tolist(),
         "position": (T[:3, 3] / chain.length_scale).tolist(),
         "J": Jf.tolist(),
-        "manipulability": _num(mf[0]), "sigma_min": _num(mf[1]), "condition": _num(mf[2]),
+        "manipulability": finite_or_none(mf[0]), "sigma_min": finite_or_none(mf[1]),
+        "condition": finite_or_none(mf[2]),
         "det": None if math.isnan(mf[3]) else float(mf[3]),
-        "si": {"manipulability": _num(m_si.manipulability), "sigma_min": _num(m_si.sigma_min),
-               "condition": _num(m_si.condition)},
+        "si": {"manipulability": finite_or_none(m_si.manipulability),
+               "sigma_min": finite_or_none(m_si.sigma_min),
+               "condition": finite_or_none(m_si.condition)},
         "within_limits": not violations,
         "limit_violations": violations,
     }
-
-
-def _num(x: float) -> float | None:
-    """JSON has no inf: an infinite condition number (exact singularity) is written as null."""
-    x = float(x)
-    return x if math.isfinite(x) else None
 
 
 def run_kinematics_study(study: dict) -> dict:

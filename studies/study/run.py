@@ -13,9 +13,10 @@ from pathlib import Path
 
 import numpy as np
 
-from studies.cli.common import require_task_rows
 from studies.study import sections as sec
 from studies.study.context import Study, run_study_function
+from studies.study.windows import factor_margins
+from studies.taskrows import require_task_rows
 
 __all__ = ["run_study", "file_study"]
 
@@ -37,8 +38,6 @@ def file_study(study: dict):
                 analysis = sec.singular_set(s, robot)
         if "windows" in study:
             from planning.windows import build_windows
-
-            from studies.cli.common import factor_margins
             with s.section("Windows"):
                 margin = study["windows"]["margin"]
                 s.input("windows: margin (file units)", margin)

@@ -13,7 +13,8 @@ from pathlib import Path
 import numpy as np
 
 import kin
-from studies.cli.common import jsonable
+from studies.jointpath import path_csv_text
+from studies.jsonio import jsonable
 from studies.report.html import format_value
 from studies.study import kinematics as ks
 from studies.study.context import Study
@@ -72,7 +73,7 @@ def configurations_table(s: Study, robot: kin.Robot, configs: list[tuple[str, li
 def singular_set(s: Study, robot: kin.Robot, **options):
     """The singular set (factors with kinds) as a table; returns the analysis."""
     from kin.singular import analyse_singularities
-    from studies.cli.singular import singularities_json
+    from studies.study.singular import singularities_json
 
     analysis = analyse_singularities(robot, **options)
     d = singularities_json(robot, analysis)
@@ -199,6 +200,6 @@ def planned_path(s: Study, robot: kin.Robot, windows, start, goal, *, planner: s
 
 
 def path_csv(robot: kin.Robot, path: np.ndarray) -> str:
-    """A joint path as CSV text in the robot file's units (header q1…qn), as ``rmt plan --out`` writes it."""
-    from studies.cli.plan import path_csv_text
+    """A joint path as CSV text in the robot file's units (header q1…qn), as ``rmt plan --out`` writes it
+    (:func:`studies.jointpath.path_csv_text`)."""
     return path_csv_text(robot, path)

@@ -1,15 +1,25 @@
-"""What every bundled study's tests share: one quick run of the study with its results.json read as
-strict JSON, and the browser check of its report — it renders in headless Chromium with no console
-error and no network request, every figure it lists loads, its 3-D views draw, and its findings and
-key numbers are on the page as a reader sees it (``innerText``)."""
+"""What every bundled study's tests share: one quick run of the study — copied alone into an empty
+directory and run there as a script, as the README says a copied study runs — with its results.json
+read as strict JSON, and the browser check of its report — it renders in headless Chromium with no
+console error and no network request, every figure it lists loads, its 3-D views draw, and its
+findings and key numbers are on the page as a reader sees it (``innerText``)."""
 from __future__ import annotations
 
 import json
+import os
 import re
+import shutil
+import subprocess
+import sys
 from pathlib import Path
+from typing import NamedTuple
 
-import studies.bundled
-from studies.study import run_module
+import studies
+
+#: the source tree under test (the copy imports rmtkit from here, as it would from an installed rmtkit)
+ROOT = Path(studies.__file__).resolve().parent.parent
+#: a quick run takes seconds to a minute; a hung one fails instead of stalling the suite
+TIMEOUT_S = 600
 
 
 def strict_json(text: str):
@@ -19,11 +29,29 @@ def strict_json(text: str):
     return json.loads(text, parse_constant=bad)
 
 
-def quick_run(name: str, tmp_path_factory):
-    """Run a bundled study in --quick mode: (study, results, report path, results.json as read back)."""
-    out = tmp_path_factory.mktemp(name)
-    s, results, report = run_module(studies.bundled.load(name), out, quick=True)
-    return s, results, report, strict_json((report.parent / "results.json").read_text(encoding="utf-8"))
+class QuickRun(NamedTuple):
+    """A bundled study's quick run as a copied script: the process, its report and its results."""
+    copied: subprocess.CompletedProcess      # ``python my_NAME.py --quick --out out`` in the copy's directory
+    report: Path                             # out/NAME/report.html beside the copy
+    results: dict                            # out/NAME/results.json, read as strict JSON
+
+
+def quick_run(name: str, tmp_path_factory) -> QuickRun:
+    """Copy ``studies/bundled/NAME.py`` alone into an empty directory, run the copy there with
+    ``--quick --out out`` in a subprocess, and check that it exits 0 and writes its report.html and
+    results.json: a bundled study is a plain script that needs nothing beside it."""
+    here = tmp_path_factory.mktemp(f"{name}_copied")
+    assert not any(here.iterdir())
+    script = here / f"my_{name}.py"
+    shutil.copyfile(ROOT / "studies" / "bundled" / f"{name}.py", script)
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))}
+    copied = subprocess.run([sys.executable, script.name, "--quick", "--out", "out"], cwd=here, env=env,
+                            capture_output=True, text=True, timeout=TIMEOUT_S)
+    out = here / "out" / name
+    assert copied.returncode == 0, f"{script.name} exited {copied.returncode}:\n{copied.stderr[-4000:]}"
+    assert (out / "report.html").is_file() and (out / "results.json").is_file(), sorted(here.rglob("*"))
+    assert str((out / "report.html").resolve()) in copied.stdout       # the terminal summary names the report
+    return QuickRun(copied, out / "report.html", strict_json((out / "results.json").read_text(encoding="utf-8")))
 
 
 def _plain(text: str) -> str:

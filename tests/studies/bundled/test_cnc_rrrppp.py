@@ -54,14 +54,14 @@ def run(tmp_path_factory):
 
 
 def test_study_ran_ok_and_json_isstrict_json(run):
-    s, results, _, d = run
-    assert s.ok and d["ok"] is True and d == results
+    d = run.results
+    assert run.copied.returncode == 0 and d["ok"] is True
     assert d["quick"] is True and d["study"] == "cnc_rrrppp"
     assert all(f["ok"] for f in d["findings"]) and len(d["findings"]) == 3
 
 
 def test_both_models_match_a_numpy_dh_product(run):
-    configs = run[3]["slip"]["configurations"]
+    configs = run.results["slip"]["configurations"]
     assert len(configs) >= 4
     for c in configs:
         for model in ("correct", "slipped"):
@@ -75,7 +75,7 @@ def test_both_models_match_a_numpy_dh_product(run):
 
 
 def test_rotation_between_the_models_is_the_fixed_rotation_of_the_linear_axes(run):
-    d = run[3]["slip"]
+    d = run.results["slip"]
     # R = R_03(q)·R_fixed, so R_correctᵀ·R_slipped = R_fixed,correctᵀ·R_fixed,slipped for every q
     q0 = [0.3, -0.4, 0.9, 0.0, 0.0, 0.0]
     Fc, Fs = _frames(q0, "correct"), _frames(q0, "slipped")
@@ -91,9 +91,9 @@ def test_rotation_between_the_models_is_the_fixed_rotation_of_the_linear_axes(ru
 
 
 def test_singularity_survives_the_slip(run):
-    sing = run[3]["singularity"]
+    sing = run.results["singularity"]
     assert sing["correct"]["factors"] == ["sin(q2)"] and sing["slipped"]["factors"] == ["sin(q2)"]
-    assert [f["expr"] for f in run[3]["singularities"]["factors"]] == ["sin(q2)"]
+    assert [f["expr"] for f in run.results["singularities"]["factors"]] == ["sin(q2)"]
     rng = np.random.default_rng(3)
     for model in ("correct", "slipped"):
         ratios = []
@@ -111,7 +111,7 @@ def test_singularity_survives_the_slip(run):
 
 
 def test_slipped_file_is_refused_and_workspaces_are_reported(run):
-    d = run[3]
+    d = run.results
     assert "joints[3].theta" in d["slipped_file_refused"] and "-90" in d["slipped_file_refused"]
     ws, wss = d["workspace"], d["workspace_slipped"]
     assert ws["counts"]["samples"] == wss["counts"]["samples"] > 0
@@ -122,7 +122,7 @@ def test_slipped_file_is_refused_and_workspaces_are_reported(run):
 
 
 def test_report_holds_the_numbers_and_the_plots(run):
-    _, _, report, d = run
+    report, d = run.report, run.results
     lo, _, hi = d["slip"]["random"]["position_difference_m"]
     angle = d["slip"]["random"]["rotation_difference_deg"][1]
     assert_report_holds(report, d, (f"{lo:.2f}–{hi:.2f} m", "sin(q2)", "0.894", f"{angle:.2f}°", "exceeds ±25.1327"),
@@ -130,5 +130,5 @@ def test_report_holds_the_numbers_and_the_plots(run):
 
 
 def test_report_renders_in_a_browser(run, report_browser):
-    _, results, report, _ = run
+    report, results = run.report, run.results
     assert_report_renders(report_browser, report, results)

@@ -69,8 +69,8 @@ def _inside(windows: dict, Q: np.ndarray) -> np.ndarray:
 
 
 def test_study_ran_ok_and_json_isstrict_json(run):
-    s, results, report, d = run
-    assert s.ok and d["ok"] is True and d == results
+    report, d = run.report, run.results
+    assert run.copied.returncode == 0 and d["ok"] is True
     assert d["quick"] is True and d["study"] == "fanuc_singularities"
     assert len(d["findings"]) == 5 and all(f["ok"] for f in d["findings"])
     for png in ("plan.png", "sigma_across_windows.png", "weld_seam.png", "workspace.png"):
@@ -79,13 +79,13 @@ def test_study_ran_ok_and_json_isstrict_json(run):
 
 
 def test_dh_table_is_the_documents(run):
-    rows = run[3]["robot"]["dh"]
+    rows = run.results["robot"]["dh"]
     assert np.allclose([(r["a"], r["alpha"], r["d"]) for r in rows], DH, atol=1e-12)
     assert np.allclose([r["limits"] for r in rows], np.stack([LOWER, UPPER], 1))
 
 
 def test_fk_at_zero_and_at_the_listed_configurations(run):
-    d = run[3]
+    d = run.results
     zero = d["configurations"][0]
     assert zero["position"] == pytest.approx([1.02, 0.0, 1.365], abs=1e-12)
     assert zero["deviation"] == pytest.approx(0.0, abs=1e-12) and zero["matches_reference"] is True
@@ -98,7 +98,7 @@ def test_fk_at_zero_and_at_the_listed_configurations(run):
 
 
 def test_three_factors_wrist_elbow_shoulder(run):
-    d = run[3]
+    d = run.results
     factors = {f["kind"]: f for f in d["singularities"]["factors"]}
     assert len(d["singularities"]["factors"]) == 3 and set(factors) == {"wrist", "elbow", "shoulder"}
     assert factors["wrist"]["joints"] == [5] and factors["wrist"]["solutions"]["values"] == pytest.approx([0.0])
@@ -114,7 +114,7 @@ def test_three_factors_wrist_elbow_shoulder(run):
 
 
 def test_window_widths_and_the_margin_window_of_q5(run):
-    d = run[3]
+    d = run.results
     for key in ("margin", "sigma_min", "learned"):
         ws = _windows(d, key)
         assert set(ws) == {"wrist", "elbow", "shoulder"}, key
@@ -129,7 +129,7 @@ def test_window_widths_and_the_margin_window_of_q5(run):
 
 
 def test_sigma_windows_bound_sigma_min(run):
-    d = run[3]
+    d = run.results
     threshold = d["sigma_requirement"]["threshold"]
     assert threshold == pytest.approx(0.1 / 5.0)
     Q = np.random.default_rng(11).uniform(LOWER, UPPER, size=(4000, 6))
@@ -144,7 +144,7 @@ def test_sigma_windows_bound_sigma_min(run):
 
 
 def test_plan_succeeds_proven_and_the_straight_line_is_blocked(run):
-    d = run[3]
+    d = run.results
     plan = d["plan"]
     assert plan["success"] is True and plan["proven"] is True and plan["straight_line_valid"] is False
     P = np.array(plan["path"])
@@ -161,7 +161,7 @@ def test_plan_succeeds_proven_and_the_straight_line_is_blocked(run):
 
 
 def test_weld_seam_valid(run):
-    w = run[3]["weld_seam"]
+    w = run.results["weld_seam"]
     assert w["valid"] is True and w["verdict"].startswith("VALID") and w["same_branch"] is True
     # 380 mm, a quarter circle of 20 mm radius, 280 mm; 10 mm/s
     length = 0.38 + math.pi * 0.02 / 2 + 0.28
@@ -175,7 +175,7 @@ def test_weld_seam_valid(run):
 
 
 def test_report_holds_the_key_numbers(run):
-    d, html = run[3], run[2].read_text(encoding="utf-8")
+    d, html = run.results, run.report.read_text(encoding="utf-8")
     for text in ("1.02", "1.365", "wrist", "elbow", "shoulder", "the thesis found 1", "proven clear",
                  f"VALID: all {d['weld_seam']['waypoints']} waypoints", "Which windows to trust",
                  "fanuc_weld_seam.toml"):
@@ -188,7 +188,7 @@ def test_report_holds_the_key_numbers(run):
 
 
 def test_report_renders_in_a_browser(run, report_browser):
-    _, _, report, d = run
+    report, d = run.report, run.results
     ws = _windows(d, "sigma_min")
     assert_report_renders(report_browser, report, d,
                           numbers=("(1.02, 0, 1.365) m", f"±{ws['wrist']['width']:.3g}",

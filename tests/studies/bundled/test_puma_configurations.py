@@ -66,14 +66,14 @@ def run(tmp_path_factory):
 
 
 def test_study_ran_ok_and_json_isstrict_json(run):
-    s, results, _, d = run
-    assert s.ok and d["ok"] is True and d == results
+    d = run.results
+    assert run.copied.returncode == 0 and d["ok"] is True
     assert d["quick"] is True and d["study"] == "puma_configurations"
     assert all(f["ok"] for f in d["findings"]) and len(d["findings"]) == 4
 
 
 def test_configurations_against_a_numpy_dh_product(run):
-    rows = run[3]["configurations"]
+    rows = run.results["configurations"]
     assert [r["k"] for r in rows] == [1, 2, 3, 4, 5]
     for r in rows:
         T, Ts = _test_chain(r["k"], False), _test_chain(r["k"], True)
@@ -87,13 +87,13 @@ def test_configurations_against_a_numpy_dh_product(run):
         assert r["angle_deg"] == pytest.approx(math.degrees(math.acos(np.clip(c, -1, 1))), abs=1e-9)
     # docs/machines.md §1: the five-joint rotation, printed to three decimals
     np.testing.assert_allclose(rows[-1]["R_correct"], R5, atol=5e-4)
-    assert run[3]["reference_R5_deviation"] < 5e-4
+    assert run.results["reference_R5_deviation"] < 5e-4
     # one joint: Rz(90°)·Rx(−90°), by hand
     np.testing.assert_allclose(rows[0]["R_correct"], [[0, 0, -1], [1, 0, 0], [0, -1, 0]], atol=1e-12)
 
 
 def test_joint_limit_check_flags_joint_5_only(run):
-    lc = run[3]["limit_check"]
+    lc = run.results["limit_check"]
     outside = [i + 1 for i, (v, (lo, hi)) in enumerate(zip([*THETA, 0.0], PUMA_RANGES)) if not lo <= v <= hi]
     assert outside == [5]
     assert [v["joint"] for v in lc["violations"]] == outside
@@ -102,7 +102,7 @@ def test_joint_limit_check_flags_joint_5_only(run):
 
 
 def test_architectures_against_a_numpy_skeleton(run):
-    d = run[3]
+    d = run.results
     rows = {r["architecture"]: r for r in d["architectures"]}
     assert list(rows) == ["".join(t) for t in itertools.product("RP", repeat=3)]
     n_dex = d["meta"]["inputs"]["architectures: dexterity samples (uniform random)"]
@@ -131,7 +131,7 @@ def test_architectures_against_a_numpy_skeleton(run):
 
 
 def test_stroke_sweep_volumes_grow_with_the_stroke(run):
-    sweep = run[3]["stroke_sweep"]
+    sweep = run.results["stroke_sweep"]
     for a in ("RRP", "RPR", "PRP", "PPR"):
         vols = [x["volume_m3"] for x in sorted((x for x in sweep if x["architecture"] == a),
                                                key=lambda x: x["stroke_factor"])]
@@ -139,7 +139,7 @@ def test_stroke_sweep_volumes_grow_with_the_stroke(run):
 
 
 def test_report_holds_the_numbers_and_the_plots(run):
-    _, _, report, d = run
+    report, d = run.report, run.results
     assert_report_holds(report, d, ("0.8660", "−0.4330", "row sums", "degrees read as radians, row sums as position",
                  "θ5 = 180° is outside the PUMA 560's range −100…100°", "joint 5 = 3.14159 rad", "RPP, PRR, PPP",
                  f"{d['configurations'][-1]['position_thesis'][0]:.4f}"),
@@ -147,5 +147,5 @@ def test_report_holds_the_numbers_and_the_plots(run):
 
 
 def test_report_renders_in_a_browser(run, report_browser):
-    _, results, report, _ = run
+    report, results = run.report, run.results
     assert_report_renders(report_browser, report, results, numbers=("0.8660", "row sums"))

@@ -30,14 +30,14 @@ def _sigma_min_planar_m(q2: float) -> float:
 
 
 def test_study_ran_ok_and_json_isstrict_json(run):
-    s, results, _, d = run
-    assert s.ok and d["ok"] is True and d == results
+    d = run.results
+    assert run.copied.returncode == 0 and d["ok"] is True
     assert d["quick"] is True and d["study"] == "scara_error_window"
     assert all(f["ok"] for f in d["findings"]) and len(d["findings"]) == 5
 
 
 def test_fk_matches_machines_md(run):
-    d = run[3]
+    d = run.results
     got = {c["label"]: c["position"] for c in d["configurations"]}
     assert got["FK(0, 0, −197)"] == pytest.approx([675.0, 0.0, -195.0], abs=0.01)
     assert got["FK(0.5, 1.0, −150)"] == pytest.approx([229.29, 556.74, -148.0], abs=0.01)
@@ -48,7 +48,7 @@ def test_fk_matches_machines_md(run):
 
 
 def test_one_factor_matching_the_closed_form(run):
-    d = run[3]
+    d = run.results
     factors = d["singularities"]["factors"]
     assert len(factors) == 1
     f = factors[0]
@@ -61,7 +61,7 @@ def test_one_factor_matching_the_closed_form(run):
 
 
 def test_windows_against_the_thesis_and_numpy_sigma_min(run):
-    d = run[3]
+    d = run.results
     w = d["window_widths_rad"]
     assert w["thesis"] == 0.01
     learned = d["learned"]
@@ -86,7 +86,7 @@ def test_windows_against_the_thesis_and_numpy_sigma_min(run):
 
 
 def test_workspace_is_the_annulus_times_the_stroke(run):
-    b = run[3]["workspace_bounds_mm"]
+    b = run.results["workspace_bounds_mm"]
     inner = math.sqrt(A**2 + FOREARM**2 + 2 * A * FOREARM * math.cos(Q2_LIMIT))
     assert b["outer_radius"]["closed_form"] == pytest.approx(675.0)
     assert b["inner_radius"]["closed_form"] == pytest.approx(inner)
@@ -95,11 +95,11 @@ def test_workspace_is_the_annulus_times_the_stroke(run):
     assert b["z"]["closed_form"] == pytest.approx([-295.0, -95.0])
     zlo, zhi = b["z"]["sampled"]
     assert -295.0 - 1e-6 <= zlo < -290.0 and -100.0 < zhi <= -95.0 + 1e-6
-    assert run[3]["workspace"]["radial_reach"] == pytest.approx(0.675, abs=5e-3)
+    assert run.results["workspace"]["radial_reach"] == pytest.approx(0.675, abs=5e-3)
 
 
 def test_report_holds_the_numbers_and_the_plots(run):
-    _, _, report, d = run
+    report, d = run.report, run.results
     w = d["window_widths_rad"]
     assert_report_holds(report, d, ("101250", "675", "229.29", "556.74", "±0.01 rad", "[−0.01, 0.01]",
                  f"±{w['learned']:.3g} rad", f"±{w['sigma_min']:.3g} rad", "sin(q2)"),
@@ -107,5 +107,5 @@ def test_report_holds_the_numbers_and_the_plots(run):
 
 
 def test_report_renders_in_a_browser(run, report_browser):
-    _, results, report, _ = run
+    report, results = run.report, run.results
     assert_report_renders(report_browser, report, results)

@@ -48,8 +48,8 @@ def run(tmp_path_factory):
 
 
 def test_study_ran_ok_and_json_isstrict_json(run):
-    s, results, _, d = run
-    assert s.ok and d["ok"] is True and d == results
+    d = run.results
+    assert run.copied.returncode == 0 and d["ok"] is True
     assert d["quick"] is True and d["study"] == "ur3_drawing"
     assert all(f["ok"] for f in d["findings"]) and len(d["findings"]) == 8
 
@@ -81,7 +81,7 @@ def test_wrist_branches_closed_form_against_numpy_fk():
 
 
 def test_the_path_forces_the_wrist_window_on_every_waypoint(run):
-    d = run[3]
+    d = run.results
     fb = d["forced_by_path"]
     assert fb["forced"] is True and fb["waypoints"] == N
     sb, ob = fb["start_branch"], fb["other_branch"]
@@ -106,7 +106,7 @@ def test_the_path_forces_the_wrist_window_on_every_waypoint(run):
 
 
 def test_naive_method_with_the_homework_jacobian_blows_up(run):
-    m = run[3]["methods"]
+    m = run.results["methods"]
     hw, qp = m["naive_homework"], m["qp_pose"]
     assert hw["max_position_error_m"] > 0.1 and hw["within_tolerance"] is False
     assert hw["peak_joint_speed_rad_s"] > 1e6 * qp["peak_joint_speed_rad_s"]
@@ -119,7 +119,7 @@ def test_naive_method_with_the_homework_jacobian_blows_up(run):
 
 
 def test_window_width_does_not_change_what_the_path_forces(run):
-    d = run[3]
+    d = run.results
     sweep = d["window_width_sweep"]
     assert {r["half_width_deg"] for r in sweep} == {2.0, 20.0}
     for r in sweep:
@@ -135,7 +135,7 @@ def test_window_width_does_not_change_what_the_path_forces(run):
 
 
 def test_report_holds_the_numbers_and_the_plots(run):
-    _, _, report, d = run
+    report, d = run.report, run.results
     m = d["methods"]
     assert_report_holds(report, d, (f"{N}/{N} waypoints", "forced by the path", "not forced", "θ5 = 0 at all 5001 waypoints",
                  f"{m['naive_homework']['peak_joint_speed_rad_s']:.3g}", "ur3_homework_pen.toml"),
@@ -143,5 +143,5 @@ def test_report_holds_the_numbers_and_the_plots(run):
 
 
 def test_report_renders_in_a_browser(run, report_browser):
-    _, results, report, _ = run
+    report, results = run.report, run.results
     assert_report_renders(report_browser, report, results, numbers=(f"{N}/{N}", "forced by the path"))

@@ -22,7 +22,9 @@ from planning.ompl import plan
 from planning.validate import check_path
 from planning.windows import build_windows
 from studies.cli import main
-from studies.cli.common import dump, factor_margins, windows_from_args
+from studies.cli.common import windows_from_args
+from studies.jsonio import dump
+from studies.study.windows import factor_margins
 from tests.dh_numpy import dh_standard
 
 ISSUE_START = ["2.4108", "0.4729", "2.6727", "-1.9392", "1.5042", "1.629"]

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 import kin
-from studies.report.view3d import MAX_ANIMATION_FRAMES, MAX_CLOUD_POINTS, densify, frame_origins, robot_view
+from studies.jointpath import densify
+from studies.report.view3d import MAX_ANIMATION_FRAMES, MAX_CLOUD_POINTS, frame_origins, robot_view
 
 
 def _dh(a, alpha, d, theta):
