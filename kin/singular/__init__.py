@@ -16,9 +16,9 @@ import importlib
 _LAZY = {"DEFAULT_EXACT_TIMEOUT": "kin.singular.analysis", "KINDS": "kin.singular.analysis",
          "SingularFactor": "kin.singular.analysis", "SingularityAnalysis": "kin.singular.analysis",
          "analyse_singularities": "kin.singular.analysis", "BudgetError": "kin.singular.budget",
-         "SingularComponent": "kin.singular.numeric"}
+         "SingularComponent": "kin.singular.numeric", "SingularSet": "kin.singular.component"}
 
-__all__ = ["DEFAULT_EXACT_TIMEOUT", "KINDS", "BudgetError", "SingularComponent", "SingularFactor",
+__all__ = ["DEFAULT_EXACT_TIMEOUT", "KINDS", "BudgetError", "SingularComponent", "SingularFactor", "SingularSet",
            "SingularityAnalysis", "analyse_singularities"]
 
 

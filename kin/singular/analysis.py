@@ -36,6 +36,7 @@ import sympy as sp
 from kin.chain import Chain
 from kin.singular import cache
 from kin.singular.budget import DEFAULT_MEMORY, BudgetError, check_budget, run_with_budget
+from kin.singular.component import SingularSet
 from kin.singular.determinant import ROW_NAMES, derivation_text, wrist_centre
 from kin.singular.exact import (StructureError, content_key, exact_structure, from_tree, numeric_form, rebuild,
                                 trig_form, validate_structure)
@@ -108,7 +109,7 @@ class SingularityAnalysis:
     """
 
     robot: str
-    factors: list
+    factors: list[SingularSet]
     method: str
     rows: tuple[str, ...]
     seconds: float

@@ -453,3 +453,14 @@ def test_wrist_factors_make_two_axes_parallel(case):
                 if np.linalg.norm(np.cross(J[:, 3:, a], J[:, 3:, b]), axis=1).max() < 1e-9:
                     found = True
         assert found, (robot.name, f.expr)
+
+
+def test_exact_factors_and_numeric_components_are_singular_sets():
+    from kin.singular import SingularSet
+    from kin.singular.numeric import SingularComponent
+    robot = kin.load_robot("fanuc_m16ib20")
+    for f in analyse_singularities(robot).factors:
+        assert isinstance(f, SingularSet)
+    comp = SingularComponent(kind="other", joints=(2, 3), meaning="m", solutions={}, n=6,
+                             points=np.zeros((1, 6)), normals=np.zeros((1, 6)))
+    assert isinstance(comp, SingularSet) and comp.multiplicity == 1
