@@ -19,6 +19,7 @@ from kin.chain import (ANGLE_UNITS, CONVENTIONS, DH_FIELDS, JOINT_TYPES, LENGTH_
 from kin.errors import ChainError, RobotFileError, UnknownRobotError
 from kin.output import write_output
 from kin.transforms import rigidity_defect
+from kin.validation import Fields, type_name
 
 ROBOT_DIR = Path(__file__).parent / "robots"
 TOP_FIELDS = ("name", "title", "source", "convention", "length_unit", "angle_unit", "joints", "base",
@@ -67,40 +68,16 @@ def load_chain(name_or_path: str | Path) -> Chain:
 
 
 # ---- parsing -----------------------------------------------------------------------------------
-class _Reader:
+class _Reader(Fields):
+    """Robot-file fields (:class:`kin.validation.Fields`) with the robot file's own error, lengths and
+    angles."""
+
     def __init__(self, path: str | None):
+        super().__init__(path)
         self.path = path
 
     def fail(self, field: str | None, msg: str) -> RobotFileError:
         return RobotFileError(msg, self.path, field)
-
-    def table(self, obj: Any, field: str, allowed: tuple[str, ...]) -> dict:
-        if not isinstance(obj, dict):
-            raise self.fail(field, f"must be a table, got {_tname(obj)}")
-        unknown = [k for k in obj if k not in allowed]
-        if unknown:
-            raise self.fail(f"{field}.{unknown[0]}" if field else unknown[0],
-                            f"unknown field; allowed: {', '.join(allowed)}")
-        return obj
-
-    def number(self, v: Any, field: str) -> float:
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
-            raise self.fail(field, f"must be a number, got {_tname(v)} {v!r}")
-        if not math.isfinite(v):
-            raise self.fail(field, f"must be a finite number, got {v}")
-        return float(v)
-
-    def string(self, v: Any, field: str, allowed: tuple[str, ...] | None = None) -> str:
-        if not isinstance(v, str):
-            raise self.fail(field, f"must be a string, got {_tname(v)} {v!r}")
-        if allowed is not None and v not in allowed:
-            raise self.fail(field, f"{v!r} is not allowed; allowed: {', '.join(allowed)}")
-        return v
-
-    def vector(self, v: Any, field: str, size: int) -> list[float]:
-        if not isinstance(v, list) or len(v) != size:
-            raise self.fail(field, f"must be a list of {size} numbers, got {v!r}")
-        return [self.number(x, f"{field}[{i}]") for i, x in enumerate(v)]
 
     def length(self, v: Any, field: str, scale: float) -> float:
         """A length in file units → m, within ±:data:`MAX_LENGTH` and 0 or at least :data:`MIN_LENGTH`."""
@@ -124,9 +101,7 @@ class _Reader:
         return x
 
 
-def _tname(v: Any) -> str:
-    return {bool: "boolean", int: "integer", float: "number", str: "string", list: "array",
-            dict: "table"}.get(type(v), type(v).__name__)
+_tname = type_name
 
 
 def loads_robot(text: str, path: str | None = None) -> Chain:

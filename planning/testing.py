@@ -30,6 +30,7 @@ import math
 import numpy as np
 
 from kin.errors import ConfigurationError
+from kin.validation import is_real
 from planning.certify import certify_path, certify_sigma
 from planning.ompl.validity import JointSpaceChecker
 from planning.toolpath.check import validate_toolpath
@@ -71,8 +72,7 @@ def assert_path_valid(robot, path, windows=None, sigma_floor: float | None = Non
     step_length = DEFAULT_STEP_LENGTH if step is None else float(step) * DEFAULT_STEP_LENGTH / DEFAULT_STEP_ANGLE
     if not (step_angle > 0 and math.isfinite(step_angle)):
         raise ConfigurationError(f"step = {step!r} must be a positive finite number (rad)")
-    if sigma_floor is not None and (isinstance(sigma_floor, bool) or not isinstance(sigma_floor, (int, float))
-                                    or not (math.isfinite(sigma_floor) and sigma_floor >= 0)):
+    if sigma_floor is not None and not (is_real(sigma_floor) and math.isfinite(sigma_floor) and sigma_floor >= 0):
         raise ConfigurationError(f"sigma_floor = {sigma_floor!r} must be a finite number ≥ 0 (SI) or None")
     if windows is not None:
         windows.check_robot(robot)

@@ -43,9 +43,7 @@ class _Reader(robotfile._Reader):
         return x
 
     def integer(self, v: Any, field: str, lo: int = 1, hi: int = 100_000) -> int:
-        if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
-            raise self.fail(field, f"must be an integer in [{lo}, {hi}], got {v!r}")
-        return v
+        return super().integer(v, field, lo, hi)
 
     def counts(self, v: Any, field: str, size: int, limit: int = 200_000) -> list[int]:
         if not isinstance(v, list) or len(v) != size:

@@ -43,6 +43,7 @@ from kin.singular.exact import (StructureError, content_key, exact_structure, fr
 from kin.singular.kinds import classify
 from kin.singular.numeric import KINDS, Progress, numeric_components
 from kin.singular.solve import display_text, lambdify_factor, sample_zero_set
+from kin.validation import is_real
 
 #: default budget of the exact path (s); the bundled robots need 0.1–2.5 s on one core
 DEFAULT_EXACT_TIMEOUT = 8.0
@@ -244,7 +245,7 @@ def analyse_singularities(robot, samples: int = 200, seed: int = 0, exact_timeou
     seconds.  ``progress(stage, done, total)`` is called as the work goes on (kin never prints).
     """
     check_budget(exact_timeout, exact_memory)
-    if isinstance(numeric_time, bool) or not (isinstance(numeric_time, (int, float)) and 0 < numeric_time <= 3600):
+    if not (is_real(numeric_time) and 0 < numeric_time <= 3600):
         raise BudgetError(f"numeric_time {numeric_time!r} must be a number of seconds in (0, 3600]")
     say = progress or (lambda stage, done, total: None)
     t0 = time.perf_counter()

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from typing import Any, Callable
 
 from kin.errors import RmtError
+from kin.validation import is_count, is_real
 
 #: default memory the worker may add to the parent's address space (bytes)
 DEFAULT_MEMORY = 1 << 30
@@ -68,10 +69,10 @@ def _child(conn, fn: Callable[..., Any], args: tuple, memory: int) -> None:
 
 def check_budget(timeout: float, memory: int) -> None:
     """Raise :class:`BudgetError` unless 0 ≤ timeout ≤ 3600 s and 1 MiB ≤ memory ≤ 1 TiB."""
-    if isinstance(timeout, bool) or not isinstance(timeout, (int, float)) or not (0 <= timeout <= 3600) \
+    if not is_real(timeout) or not (0 <= timeout <= 3600) \
             or not math.isfinite(timeout):
         raise BudgetError(f"exact_timeout (--exact-timeout) {timeout!r} must be a number of seconds in [0, 3600]")
-    if isinstance(memory, bool) or not isinstance(memory, int) or not ((1 << 20) <= memory <= (1 << 40)):
+    if not is_count(memory) or not ((1 << 20) <= memory <= (1 << 40)):
         raise BudgetError(f"exact_memory {memory!r} must be an integer number of bytes in [2^20, 2^40]")
 
 

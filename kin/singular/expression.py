@@ -36,6 +36,7 @@ from typing import TYPE_CHECKING
 
 from kin.errors import RmtError
 from kin.singular.tree import Add, Cos, Mul, Node, Num, Pow, Sin, Var, add, mul, neg
+from kin.validation import is_count
 
 if TYPE_CHECKING:
     import sympy as sp
@@ -327,7 +328,7 @@ def parse_tree(text: str, n: int, where: str = "expression") -> Node:
         raise ExpressionError(f"{where}: must be a string, got {type(text).__name__}")
     if len(text) > MAX_LENGTH:
         raise ExpressionError(f"{where}: {len(text)} characters; at most {MAX_LENGTH}")
-    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+    if not is_count(n) or n < 1:
         raise ExpressionError(f"{where}: the number of joints must be a positive integer, got {n!r}")
     return _Parser(text, n, where).parse()
 

@@ -35,6 +35,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from kin.chain import ANGLE_UNITS, LENGTH_UNITS
+from kin.validation import Fields, type_name
 
 from planning.toolpath.geometry import (
     QUAT_NORM_TOL,
@@ -68,38 +69,19 @@ MAX_ANGLE = 8 * math.pi
 ARC_RADIUS_TOL = 1e-4
 
 
-class _Toml:
-    """Field access with messages naming the file and the field."""
+class _Toml(Fields):
+    """Tool-path file fields (:class:`kin.validation.Fields`) with the tool-path error, positions,
+    feeds and units."""
 
     def __init__(self, src: str):
+        super().__init__(src)
         self.src = src
 
     def fail(self, field: str | None, msg: str) -> ToolPathError:
         return ToolPathError(msg, self.src, field)
 
-    def table(self, obj: Any, field: str, allowed: Sequence[str]) -> dict:
-        if not isinstance(obj, dict):
-            raise self.fail(field, f"must be a table, got {_tname(obj)}")
-        for k in obj:
-            if k not in allowed:
-                raise self.fail(f"{field}.{k}" if field else k, f"unknown field; allowed: {', '.join(allowed)}")
-        return obj
-
-    def number(self, obj: Any, field: str, positive: bool = False) -> float:
-        if isinstance(obj, bool) or not isinstance(obj, (int, float)):
-            raise self.fail(field, f"must be a number, got {_tname(obj)}")
-        x = float(obj)
-        if not math.isfinite(x):
-            raise self.fail(field, "must be a finite number (NaN and infinity are not allowed)")
-        if positive and x <= 0:
-            raise self.fail(field, f"must be > 0, got {x:g}")
-        return x
-
     def vector(self, obj: Any, field: str, size: int) -> np.ndarray:
-        if not isinstance(obj, list) or len(obj) != size:
-            raise self.fail(field, f"must be a list of {size} numbers, got {_tname(obj)}"
-                            + (f" of length {len(obj)}" if isinstance(obj, list) else ""))
-        return np.array([self.number(v, f"{field}[{i}]") for i, v in enumerate(obj)])
+        return np.array(super().vector(obj, field, size))
 
     def position(self, obj: Any, field: str, scale: float) -> np.ndarray:
         """A point [x, y, z] in file units → m, every coordinate within ±:data:`MAX_COORDINATE`."""
@@ -116,21 +98,13 @@ class _Toml:
                             f"{FEED_RANGE[1] / scale:g}] (file length unit/s)")
         return v
 
-    def integer(self, obj: Any, field: str) -> int:
-        if isinstance(obj, bool) or not isinstance(obj, int):
-            raise self.fail(field, f"must be an integer ≥ 1, got {_tname(obj)}")
-        if obj < 1:
-            raise self.fail(field, f"must be an integer ≥ 1, got {obj}")
-        return int(obj)
-
     def unit(self, obj: Any, field: str, units: dict) -> float:
         if obj not in units:
             raise self.fail(field, f"unknown unit {obj!r}; allowed: {', '.join(units)}")
         return units[obj]
 
 
-def _tname(obj: Any) -> str:
-    return {dict: "a table", list: "a list", str: "a string", bool: "a boolean"}.get(type(obj), type(obj).__name__)
+_tname = type_name
 
 
 def read_toolpath_toml(path: str | Path, robot) -> ToolPath:

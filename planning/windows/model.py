@@ -18,6 +18,7 @@ from kin.output import write_output
 from kin.singular.evaluate import batch_function
 from kin.singular.expression import ExpressionError, parse_tree
 from kin.singular.tree import Node
+from kin.validation import is_count, is_real
 
 from planning.errors import WindowError
 from planning.windows.base import WindowBase
@@ -132,11 +133,11 @@ class Window(WindowBase):
             raise WindowError(f"{label}: method {d['method']!r} unknown; allowed: {', '.join(METHODS)}")
         joints = d["joints"]
         if (not isinstance(joints, list) or not joints
-                or not all(isinstance(j, int) and not isinstance(j, bool) and 1 <= j <= n for j in joints)):
+                or not all(is_count(j) and 1 <= j <= n for j in joints)):
             raise WindowError(f"{label}: joints must be a non-empty list of joint numbers 1…{n}, got {joints!r}")
 
         def number(v, what: str) -> float:
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            if not is_real(v) or not math.isfinite(v):
                 raise WindowError(f"{label}: {what} must be a finite number, got {v!r}")
             return float(v)
 
@@ -259,7 +260,7 @@ class WindowSet:
         if not isinstance(d, dict) or not isinstance(d.get("windows"), list):
             raise WindowError(f"{path}: needs fields robot, n (integer) and windows (list)")
         n = d.get("n")
-        if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_JOINTS:
+        if not is_count(n) or not 1 <= n <= MAX_JOINTS:
             raise WindowError(f"{path}: n must be the robot's number of joints, an integer 1…{MAX_JOINTS}, got {n!r}")
         robot = d.get("robot", "")
         if not isinstance(robot, str):
