@@ -1,4 +1,4 @@
-"""Robot files: TOML load, validation and save (the public file format; see README).
+"""Robot files: TOML load, validation and save (the public file format; see docs/robot-files.md).
 
 Units are converted once, here: the returned :class:`~kin.chain.Chain` is in SI units and
 remembers the file's units, so that :func:`dumps_robot` writes the values back as they were

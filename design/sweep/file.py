@@ -2,7 +2,7 @@
 
 Every bad field raises :class:`SweepError` naming the file and the field; nothing is evaluated.
 Parameter ranges and values are in the robot file's units (as ``rmt coverage --param``) and must
-lie inside the parameter's bounds.  Schema: README, "Sweep files".
+lie inside the parameter's bounds.  Schema: docs/design.md, "Sweep files".
 """
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Reading task files (TOML).  Every bad field raises :class:`TaskError` naming the file and the
 field; nothing is evaluated.  Lengths are in the file's ``length_unit``, angles in its
-``angle_unit``; dexterity values are SI (as ``--sigma-min`` is).  Schema: README, "Task files"."""
+``angle_unit``; dexterity values are SI (as ``--sigma-min`` is).  Schema: docs/design.md, "Task files"."""
 from __future__ import annotations
 
 import math

@@ -45,7 +45,7 @@ TITLE = "SCARA design: arm lengths for coverage, IPOPT against the grid, and a s
 
 TASK = Path(studies.__file__).parent / "tasks" / "scara_box.toml"
 
-# The sweep, written as a sweep file (README, "Sweep files") so that it can be copied to a .toml and
+# The sweep, written as a sweep file (docs/design.md, "Sweep files") so that it can be copied to a .toml and
 # run with `rmt sweep`; the grid count is filled in below.
 SWEEP = """\
 name = "scara_design"
@@ -261,7 +261,7 @@ def study(s: Study, scratch: Path) -> None:
         sweep = loads_sweep(SWEEP.format(seeds=settings.seeds, samples=settings.samples, count=sweep_n),
                             "scara_design sweep", TASK.parent, task=task)
         s.code(SWEEP.format(seeds=settings.seeds, samples=settings.samples, count=sweep_n),
-               "The sweep as a sweep file (README, \"Sweep files\"): save it beside the task file and run "
+               "The sweep as a sweep file (docs/design.md, \"Sweep files\"): save it beside the task file and run "
                "`rmt sweep FILE --workers 2`.", collapsed=True)
         db = scratch / "sweep.sqlite"
         rep = run_sweep(sweep, db, LocalExecutor(workers=workers))

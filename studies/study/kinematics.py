@@ -102,7 +102,7 @@ def _robot_reference(path: Path, robot: str) -> str:
 
 
 def load_study(path: str | Path) -> dict:
-    """Read and validate a study file (format: README, "Study files"); returns {name, title, robot,
+    """Read and validate a study file (format: docs/studies.md, "Study files"); returns {name, title, robot,
     configurations: [(label, q_file)], and each optional section with its defaults filled in}.
 
     Everything is checked before anything runs: unknown fields, types, ranges, the robot (a bundled

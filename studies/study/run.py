@@ -1,7 +1,7 @@
 """A study file run as a study (``rmt study my_study.toml``): kinematics at the file's configurations,
 the singular set, its windows, the functional workspace and a planned joint path around the windows.
 
-The file's format (every key, unit and default) is in the README ("Study files") and is validated by
+The file's format (every key, unit and default) is in docs/studies.md ("Study files") and is validated by
 :func:`studies.study.kinematics.load_study` before anything runs.  :func:`run_study` writes
 ``report.html``, ``results.json`` (strict JSON), ``workspace.png`` and ``plan.csv`` into a fresh
 directory that replaces ``out_dir`` only when the study has finished

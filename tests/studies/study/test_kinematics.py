@@ -70,14 +70,14 @@ def test_robot_path_is_relative_to_the_study_file(tmp_path, monkeypatch):
     assert s["robot"] == str(sub / "arm.toml")
 
 
-def test_the_readme_study_example_loads(tmp_path):
-    """The README's study-file example is a valid study with every key it documents."""
+def test_the_documented_study_example_loads(tmp_path):
+    """The study-file example of docs/studies.md is a valid study with every key it documents."""
     import re
     from pathlib import Path
 
     from studies.study.kinematics import SECTIONS
-    readme = (Path(__file__).resolve().parents[3] / "README.md").read_text()
-    text = re.search(r"## Study files.*?```toml\n(.*?)```", readme, re.S).group(1)
+    page = (Path(__file__).resolve().parents[3] / "docs" / "studies.md").read_text()
+    text = re.search(r"## Study files.*?```toml\n(.*?)```", page, re.S).group(1)
     s = load_study(_study(tmp_path, text))
     assert s["robot"] == "fanuc_m16ib20" and s["configurations"][0][0] == "ready"
     for section, keys in SECTIONS.items():
