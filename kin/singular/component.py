@@ -3,8 +3,8 @@ interface that windows, planning, studies and the CLI rely on.
 
 Two kinds implement it: :class:`kin.singular.SingularFactor` (an irreducible factor g of det J
 found by the exact analysis: a formula) and :class:`kin.singular.SingularComponent` (a component
-found by the numeric analysis: sample points, no formula).  Code that needs the formula asks
-``has_formula``; a numeric component's ``multiplicity`` is 1 because its order is not known.
+found by the numeric analysis: sample points, no formula; ``expr`` is then a label).  A numeric
+component's ``multiplicity`` is 1 because its order is not known.
 """
 from __future__ import annotations
 

@@ -20,6 +20,7 @@ import os
 import argparse
 import sys
 import time
+from pathlib import Path
 
 
 from design.architecture import optimise_architectures
@@ -29,7 +30,7 @@ from design.optimise.grid import grid_search
 from design.task import load_task
 from studies.jsonio import dump
 
-TASKS = "studies/tasks"
+TASKS = Path(__file__).resolve().parent.parent / "tasks"     # the bundled task files, from any directory
 
 
 def _timed(f, *a, **k):
