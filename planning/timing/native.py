@@ -16,7 +16,7 @@ import threading
 import warnings
 from pathlib import Path
 
-from kin.compiled.evaluator import cache_dir, find_compiler
+from kin.native import cache_dir, find_compiler
 from kin.errors import CompileError
 from planning.timing.reach_source import REACH_SOURCE
 
