@@ -47,7 +47,8 @@ GENERATED_HEADER = "rmt_generated.h"
 #: seconds one compiler run may take; waiting for another process's build may take a minute more
 NATIVE_TIMEOUT = 300.0
 # -ffp-contract=off: no fused multiply-adds, so a·b − a·b cancels exactly (a pose at zero net
-# rotation prints 0, not 3e-17) and native and portable builds give the same numbers.
+# rotation prints 0, not 3e-17) and native and portable builds give the same numbers (GCC 12's
+# straight-line vectoriser may still fuse a few: see IK_FLAGS in kin/ik/compiled.py).
 # -fopenmp-simd honours `omp simd` pragmas only: no OpenMP runtime is linked.
 COMMON_FLAGS = ["-O3", "-fPIC", "-shared", "-pthread", "-fopenmp-simd", "-fno-math-errno", "-ffp-contract=off",
                 "-std=gnu99"]
