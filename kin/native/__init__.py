@@ -8,7 +8,7 @@ The kernels themselves sit beside the Python that loads them: ``kin/compiled/ker
 FK/Jacobian/measures and the single-call extension), ``kin/ik/ik.c`` (the batch IK solver) and
 ``planning/timing/reach.c`` (TOPP-RA's reachability passes).
 """
-from kin.native.build import COMMON_FLAGS, NATIVE_TIMEOUT, Library, build, library_dir
+from kin.native.builder import COMMON_FLAGS, NATIVE_TIMEOUT, Library, build, library_dir
 from kin.native.graph import graph_table
 from kin.native.header import Header, c_double
 from kin.native.settings import (cache_dir, default_threads, find_compiler, python_extension_flags,

@@ -11,7 +11,7 @@ the function's instruction list instead and writes it as three tables of numbers
 
 ``RMT_GRAPH_EVAL(G)`` of ``kin/native/include/rmt_graph.h`` turns the tables into one statement per
 instruction for lane ``l`` of arrays of lane stride ``ld`` (element k of lane l at ``[k*ld + l]``);
-a kernel puts it inside ``#pragma omp simd`` over the lanes of a block (so every statement is a
+a kernel puts it inside an ``omp simd`` loop over the lanes of a block (so every statement is a
 vector operation across configurations) or evaluates one configuration (``ld = 1, l = 0``).
 Outputs are dense, column-major.  Only the scalar operations a kinematic chain produces are
 supported; any other raises :class:`~kin.errors.CompileError` (the caller then falls back).
