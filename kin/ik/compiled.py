@@ -98,10 +98,10 @@ class CompiledIK:
         self.chain = robot.chain
         self.n = sym.n
         self.n_p = int(sym.p.shape[0])
-        lib = build(f"ik_{self.chain.name}", IK_SOURCE, self.header(sym), flags=IK_FLAGS, compiler=compiler,
-                    directory=directory, what=f"the IK solver of {self.chain.name}")
-        self.path, self.arch, self.cached = lib.path, lib.arch, lib.cached
-        lib = ctypes.CDLL(str(lib.path))   # CDLL: the call releases the GIL
+        built = build(f"ik_{self.chain.name}", IK_SOURCE, self.header(sym), flags=IK_FLAGS, compiler=compiler,
+                      directory=directory, what=f"the IK solver of {self.chain.name}")
+        self.path, self.arch, self.cached = built.path, built.arch, built.cached
+        lib = ctypes.CDLL(str(built.path))   # CDLL: the call releases the GIL
         f = lib.rmtik_solve
         f.argtypes = [_ptr, _ptr, _ptr, ctypes.c_longlong, _ptr, ctypes.c_longlong, _ptr, _ptr, _ptr,
                       ctypes.c_longlong, ctypes.c_int, _dbl, _dbl, _dbl, _dbl, ctypes.c_int, ctypes.c_int,

@@ -93,14 +93,15 @@ def build(kernel: str, source: Path, header: str = "", *, flags: Sequence[str] =
     directory = Path(directory) if directory is not None else library_dir()
     source = Path(source)
     arch = arch or requested_arch()
-    archs = list(dict.fromkeys([arch, "portable"]))
-    for k, a in enumerate(archs):
+    if arch not in ARCH_FLAGS:
+        raise ValueError(f"arch {arch!r} unknown; allowed: {', '.join(ARCH_FLAGS)}")
+    args = (kernel, source, header, tuple(flags), tuple(key))
+    if arch != "portable":
         try:
-            return _build_one(kernel, source, header, tuple(flags), tuple(key), a, compiler, directory, what)
+            return _build_one(*args, arch, compiler, directory, what)
         except _CompilerFailed:
-            if k == len(archs) - 1:
-                raise
-    raise AssertionError("unreachable")  # pragma: no cover
+            pass  # e.g. a compiler that does not know -march=native: the portable build below
+    return _build_one(*args, "portable", compiler, directory, what)
 
 
 class _CompilerFailed(CompileError):
