@@ -9,9 +9,9 @@ is specialised per robot, ``rmt_generated.h``: a header of numbers and tables wr
 * flags: :data:`COMMON_FLAGS` plus ``-march=native`` (``RMTKIT_ARCH=native``, the default) or none
   (``portable``); a compiler that refuses the native build gets the portable one;
 * cache: ``cache_dir()/native/<kernel>_<arch>-<key>.so``, the key a hash of the C source and every
-  shared header, the generated header, the compiler and its version, the flags and the CPU (native
-  builds) or the machine type (portable ones), so a shared cache never hands a library built for one
-  CPU to another; a second call — in any process — loads the file instead of compiling;
+  shared header, the generated header, the compiler (its file, size and date), the flags and the
+  CPU (native builds) or the machine type (portable ones), so a shared cache never hands a library
+  built for one CPU to another; a second call — in any process — loads the file instead of compiling;
 * concurrency: a lock file per library (:mod:`kin.native.lock`) so that processes starting together
   (sweep workers, Dask) compile it once, the others waiting and then loading it; the compiler writes
   into a temporary directory beside the cache and the library is renamed into place, so nobody ever

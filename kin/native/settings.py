@@ -13,7 +13,6 @@ import os
 import platform
 import re
 import shutil
-import subprocess
 import sysconfig
 from functools import lru_cache
 from pathlib import Path
@@ -84,14 +83,14 @@ def cpu_fingerprint() -> str:
         return f"{platform.machine()} {platform.processor()}"
 
 
-@lru_cache(maxsize=8)
 def compiler_identity(compiler: str) -> str:
-    """The compiler's path and first ``--version`` line (a compiler upgraded in place builds anew)."""
+    """The compiler as far as a library depends on it: its path, the file it resolves to, and that
+    file's size and modification time (a compiler upgraded in place builds anew; no process is run)."""
+    real = os.path.realpath(compiler)
     try:
-        proc = subprocess.run([compiler, "--version"], capture_output=True, text=True, timeout=30)
-        first = (proc.stdout or proc.stderr).strip().splitlines()
-        return f"{compiler} {first[0] if first else ''}"
-    except (OSError, subprocess.SubprocessError):
+        st = os.stat(real)
+        return f"{compiler} -> {real} {st.st_size} {st.st_mtime_ns}"
+    except OSError:
         return compiler
 
 
