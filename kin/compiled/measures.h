@@ -65,7 +65,7 @@ RMT_INLINE void rmt_task_matrix(int nl, int ld, const double* restrict J, double
 
 /* One sweep over every column pair of nl <= RMT_B lanes; returns the number of lanes that rotated.
    Each pair is one vector loop over the lanes, on its two columns of a (in L1): with the pair loops
-   inside the lane loop instead, the whole matrix is live at once and spills (7 % slower, GCC 12). */
+   inside the lane loop instead, the whole matrix is live at once and spills (GCC 12: 4-7 % slower). */
 RMT_INLINE int rmt_jacobi_sweep(int nl, int ld, double* restrict a) {
   double d[RMT_C * RMT_B];
   int any[RMT_B];
