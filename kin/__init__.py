@@ -6,15 +6,10 @@
 array([1.02 , 0.   , 1.365])
 
 ``Robot``, ``Measures`` and ``load_robot`` (which need CasADi) are imported on first use, so that
-``import kin`` — and a command line that only parses its arguments — stays light.
+``import kin`` — and a command line that only parses its arguments — stays light.  Importing kin
+changes no environment variable; the compiled kernels' threads are POSIX threads started per call
+(:mod:`kin.native`), with no OpenMP runtime to configure.
 """
-import os
-
-# OpenMP threads (the batch IK) sleep while idle instead of spinning: several rmtkit processes on a
-# shared machine (sweep workers, Dask) would otherwise slow each other down by an order of magnitude.
-# It must be set before the OpenMP runtime loads; kin is imported before any compiled library.
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
-
 from kin.chain import Chain, Joint, Parameter, Placement
 from kin.errors import (ArgumentError, ChainError, CompileError, ConfigurationError, JointLimitError, OutBufferError,
                         ParameterError, RmtError, RobotFileError, SettingError, UnknownRobotError)

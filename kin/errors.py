@@ -50,7 +50,8 @@ class ParameterError(RmtError, ValueError):
 
 
 class CompileError(RmtError):
-    """Generated C code failed to compile (the evaluator falls back to CasADi's VM)."""
+    """A native kernel could not be built — the compiler refused it or timed out, or the cache path
+    is unusable (:func:`kin.native.build`); callers fall back to CasADi's VM or numpy."""
 
 
 class OutBufferError(RmtError, ValueError):

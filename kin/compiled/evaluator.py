@@ -1,11 +1,13 @@
-"""Fast evaluators: a generated C kernel compiled once and cached on disk, called through ctypes.
+"""Fast evaluators: the batch kernel ``kernel.c`` specialised for a chain, compiled once and cached
+on disk, called through ctypes.
 
-:class:`CompiledEvaluator` writes the chain's FK/Jacobian graph lane by lane
-(:mod:`kin.compiled.graph_c`) into the block kernel of :mod:`kin.compiled.kernel_source` and builds
-it as described in :mod:`kin.compiled.build` (native or portable flags, cache, threads).  Without a
-working C compiler (or with ``RMTKIT_CC=none``) :func:`make_evaluator` returns a
-:class:`VMEvaluator`, which runs the same CasADi function in CasADi's virtual machine and computes
-the measures with numpy; both give the same numbers.
+:class:`CompiledEvaluator` writes the chain's numbers — joint count, task rows, joint types and the
+FK/Jacobian graph as an instruction table (:mod:`kin.native.graph`) — into the generated header of
+``kin/compiled/kernel.c`` and builds it with :func:`kin.native.build` (native or portable flags,
+cache, lock; threads as in ``kin/native/include/rmt_parallel.h``).  Without a working C compiler
+(or with ``RMTKIT_CC=none``) :func:`make_evaluator` returns a :class:`VMEvaluator`, which runs the
+same CasADi function in CasADi's virtual machine and computes the measures with numpy; both give
+the same numbers.
 
 All evaluators share one interface: ``evaluate(Q, P, want, out=None)`` with Q (N, n), P (n_p,) or
 (N, n_p) returns a dict with any of ``T`` (N, 4, 4), ``J`` (N, 6, n), ``measures`` (N, 4) — columns
@@ -19,6 +21,7 @@ from __future__ import annotations
 import ctypes
 import importlib.machinery
 import importlib.util
+import sys
 import threading
 import warnings
 from pathlib import Path
@@ -26,12 +29,13 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 
-from kin.compiled.build import (cache_dir, compile_library, default_threads, find_compiler, library_path,
-                                python_extension_flags, requested_arch)
-from kin.compiled.graph_c import graph_block_c
-from kin.compiled.kernel_source import kernel_source
+from kin.chain import MAX_PRISMATIC
 from kin.errors import CompileError, OutBufferError
+from kin.native import Header, build, default_threads, find_compiler, graph_table, python_extension_flags
 from kin.symbolic import SymbolicChain
+
+#: the batch kernel's C source (its headers beside it: sincos.h, measures.h, pyext.h)
+KERNEL = Path(__file__).resolve().with_name("kernel.c")
 
 WANT_T, WANT_J, WANT_MANIP, WANT_SIGMA = 1, 2, 4, 8
 WANT_ALL = WANT_T | WANT_J | WANT_MANIP | WANT_SIGMA
@@ -136,7 +140,7 @@ def numpy_measures(Jt: np.ndarray) -> np.ndarray:
         out[:, 3] = d
         out[:, 0] = np.abs(d)
     else:
-        # |Π r_ii| of the QR factor of the tall matrix, accurate at singularities (see kin.compiled.kernel_source)
+        # |Π r_ii| of the QR factor of the tall matrix, accurate at singularities (see kin/compiled/measures.h)
         A = Jt if m >= n else Jt.transpose(0, 2, 1)
         R = np.linalg.qr(A, mode="r")
         out[:, 0] = np.abs(np.prod(np.diagonal(R, axis1=-2, axis2=-1), axis=-1))
@@ -161,17 +165,20 @@ class CompiledEvaluator:
         self.n_p = sym.p.shape[0]
         self.threads: int | None = None
         self.last_threads = 0
-        source = self.source(block)
-        directory = directory or cache_dir()
-        arch = arch or requested_arch()
-        builds = [(a, x) for a in dict.fromkeys([arch, "portable"]) for x in dict.fromkeys([python_extension_flags(), ()])]
-        for k, (a, extra) in enumerate(builds):
+        header = self.header(block)
+        name = sym.chain.name
+        variants = list(dict.fromkeys([python_extension_flags(), ()]))
+        for k, extra in enumerate(variants):
+            abi = (sys.version, np.__version__) if extra else ()  # an extension module is tied to both ABIs
             try:
-                self._build(source, compiler, a, directory, extra)
+                lib = build(f"fk_{name}", KERNEL, header, flags=extra, key=abi, arch=arch, compiler=compiler,
+                            directory=directory, what=f"the batch kernel of {name}")
                 break
             except CompileError:
-                if k == len(builds) - 1:
+                if k == len(variants) - 1:
                     raise
+        self.path, self.arch, self.cached = lib.path, lib.arch, lib.cached
+        self.single = _load_extension(lib.path, lib.module_name) if extra else None
         # the batch entry releases the GIL (CDLL); the single-configuration entry keeps it (PyDLL),
         # which is cheaper per call and, with the lock, keeps the shared buffers consistent
         self._lib = ctypes.CDLL(str(self.path))
@@ -194,27 +201,21 @@ class CompiledEvaluator:
         self.p_nominal = np.ascontiguousarray(sym.chain.parameter_values, dtype=float)
         self.lock = threading.Lock()
 
-    def _build(self, source: str, compiler: str, arch: str, directory: Path, extra: tuple[str, ...]) -> None:
-        self.arch = arch
-        self.path = library_path(source, compiler, arch, self.sym.chain.name, directory, extra)
-        self.cached = self.path.is_file()
-        if extra:  # the extension module is named after the file (a C identifier: rmt_<label>_<arch>_<key>)
-            extra = (*extra, f"-DRMT_PYEXT_NAME={self.path.stem}")
-        if not self.cached:
-            compile_library(source, compiler, arch, self.path, self.sym.chain.name, extra)
-        self.single = _load_extension(self.path) if extra else None
-
     #: the library as a Python extension module (``fk(q, p)``, ``jacobian(q, p)``,
     #: ``fk_jacobian(q, p)``, ``measures(q, p, want)``, p = :attr:`p_nominal`; see
-    #: :mod:`kin.compiled.kernel_source`), or None when built without it
+    #: ``kin/compiled/pyext.h``), or None when built without it
     single = None
 
-    def source(self, block: int = 16) -> str:
-        """C source: the chain's graph written lane by lane inside the block kernel."""
-        f = self.sym.fkj_cs_function
-        graph = graph_block_c(f, "rmt_graph", ["c", "s", "q", "p"], ["T", "J"])
-        revolute = tuple(j.is_revolute for j in self.sym.chain.joints)
-        return kernel_source(self.n, len(self.sym.task_rows), self.n_p, self.sym.task_rows, revolute, graph, block)
+    def header(self, block: int = 16) -> str:
+        """The generated header of ``kernel.c`` for this chain: sizes, task rows, joint types and the
+        FK/Jacobian graph (inputs cos q, sin q, q, p) as an instruction table."""
+        sym = self.sym
+        h = Header("the chain's numbers for kin/compiled/kernel.c")
+        h.define("RMT_N", self.n).define("RMT_M", len(sym.task_rows)).define("RMT_NP", self.n_p)
+        h.define("RMT_B", block).define("RMT_PRISMATIC_MAX", float(MAX_PRISMATIC))
+        h.array("RMT_ROWS", "int", list(sym.task_rows))
+        h.array("RMT_REVOLUTE", "int", [int(j.is_revolute) for j in sym.chain.joints])
+        return graph_table(sym.fkj_cs_function, "RMT_GRAPH", ["c", "s", "q", "p"], ["T", "J"], h).text()
 
     def evaluate(self, Q: np.ndarray, P: np.ndarray, want: int = WANT_ALL, out: dict | None = None
                  ) -> dict[str, np.ndarray]:
@@ -254,15 +255,15 @@ class CompiledEvaluator:
 _EXTENSIONS: dict[str, object] = {}
 
 
-def _load_extension(path: Path):
-    """The library's extension module (named ``path.stem``, not entered in ``sys.modules``), or
+def _load_extension(path: Path, name: str):
+    """The library's extension module (named ``name``, not entered in ``sys.modules``), or
     None.  Loaded once per file: CPython re-creates a single-phase module it has seen from a cached
     copy, by name, which must never hand one library's functions to another."""
     key = str(path)
     if key not in _EXTENSIONS:
         try:
-            loader = importlib.machinery.ExtensionFileLoader(path.stem, key)
-            spec = importlib.util.spec_from_file_location(path.stem, key, loader=loader)
+            loader = importlib.machinery.ExtensionFileLoader(name, key)
+            spec = importlib.util.spec_from_file_location(name, key, loader=loader)
             module = importlib.util.module_from_spec(spec)
             loader.exec_module(module)
         except ImportError:

@@ -1,5 +1,5 @@
 """Inverse kinematics: :func:`solve_ik` runs the compiled Levenberg–Marquardt solver
-(:mod:`kin.ik.compiled`, C generated from the CasADi model) or, without a C compiler, the numpy one
+(:mod:`kin.ik.compiled`: ``ik.c`` around the chain's CasADi graph) or, without a C compiler, the numpy one
 (:mod:`kin.ik.numeric`); :mod:`kin.ik.analytic` gives every branch of a spherical-wrist 6R arm."""
 from kin.ik.numeric import IKResult
 from kin.ik.solve import METHODS, local_ik, solve_ik

@@ -1,37 +1,33 @@
-"""The compiled IK solver: the Levenberg–Marquardt loop of :mod:`kin.ik.kernel_source` around
-CasADi's generated FK + Jacobian, compiled to a shared library, cached like the FK kernels.
+"""The compiled IK solver: the Levenberg–Marquardt loop of ``kin/ik/ik.c`` around the chain's FK
+and Jacobian, compiled to a shared library by :func:`kin.native.build`, cached like the FK kernels.
 
-The library is built once per chain (and cached on disk under :func:`kin.compiled.cache_dir`, keyed
-by a hash of the generated source and the compiler flags), loaded with ctypes and called once per
-batch: the whole iteration, every restart and every target run in C, targets spread over OpenMP
-threads (``threads``; default ``$RMTKIT_THREADS`` or every core).  No Python runs per iteration.
+The chain enters the C through its generated header (joint count and the FK/Jacobian graph as an
+instruction table, :mod:`kin.native.graph`); the library is built once per chain (cached on disk
+under ``cache_dir()/native``), loaded with ctypes and called once per batch: the whole iteration,
+every restart and every target run in C, targets spread over POSIX threads (``threads``; default
+``$RMTKIT_THREADS`` or the CPUs this process may use).  No Python runs per iteration.  The method
+(starts, stagnation, the reach test) is described at the top of ``ik.c``.
 """
 from __future__ import annotations
 
 import ctypes
-import hashlib
 import math
-import os
-import re
-import subprocess
-import sys
-import tempfile
 import threading
 import weakref
 from pathlib import Path
 
-import casadi as ca
 import numpy as np
 
-from kin.compiled import cache_dir, find_compiler
 from kin.errors import CompileError
-from kin.ik.kernel_source import IK_TEMPLATE
 from kin.ik.numeric import _length_scale
+from kin.native import Header, build, default_threads, find_compiler, graph_table
 
-#: the IK library's build flags (OpenMP across targets)
-CFLAGS = ["-O3", "-fPIC", "-shared", "-fopenmp", "-fno-math-errno", "-std=c99"]
-
-IK_VERSION = "1"
+#: the IK solver's C source
+IK_SOURCE = Path(__file__).resolve().with_name("ik.c")
+#: GCC 12's straight-line (SLP) vectoriser fuses a·b ± c into one rounding (vfmaddsub) despite
+#: -ffp-contract=off; the IK iterates, so one such rounding changes iteration counts.  Without it
+#: the native build gives the portable build's numbers exactly (and is ~10 % faster than it).
+IK_FLAGS = ("-fno-tree-slp-vectorize",)
 _dbl = ctypes.c_double
 _ptr = ctypes.c_void_p
 
@@ -94,20 +90,6 @@ class ReachBound:
                np.linalg.inv(self.tool).ravel()])
 
 
-def _compile(source: str, compiler: str, path: Path, label: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(dir=path.parent) as tmp:
-        c_file = Path(tmp) / "ik.c"
-        c_file.write_text(source)
-        so = Path(tmp) / "ik.so"
-        proc = subprocess.run([compiler, *CFLAGS, str(c_file), "-o", str(so), "-lm"], capture_output=True, text=True,
-                              check=False)
-        if proc.returncode != 0:
-            last = proc.stderr.strip().splitlines()[-1] if proc.stderr.strip() else proc.returncode
-            raise CompileError(f"{compiler} failed on the generated IK solver of {label}: {last}")
-        os.replace(so, path)   # atomic: a concurrent reader sees the old file or the whole new one
-
-
 class CompiledIK:
     """The compiled solver of one chain; build with :func:`compiled_ik`."""
 
@@ -116,14 +98,10 @@ class CompiledIK:
         self.chain = robot.chain
         self.n = sym.n
         self.n_p = int(sym.p.shape[0])
-        source = self.source(sym)
-        key = hashlib.sha256("\0".join([source, compiler, " ".join(CFLAGS), IK_VERSION, ca.__version__,
-                                        sys.platform]).encode()).hexdigest()[:20]
-        label = re.sub(r"[^A-Za-z0-9_]", "_", self.chain.name)[:40]
-        self.path = (directory or cache_dir()) / f"rmtik_{label}_{key}.so"
-        if not self.path.is_file():
-            _compile(source, compiler, self.path, self.chain.name)
-        lib = ctypes.CDLL(str(self.path))   # CDLL: the call releases the GIL
+        built = build(f"ik_{self.chain.name}", IK_SOURCE, self.header(sym), flags=IK_FLAGS, compiler=compiler,
+                      directory=directory, what=f"the IK solver of {self.chain.name}")
+        self.path, self.arch, self.cached = built.path, built.arch, built.cached
+        lib = ctypes.CDLL(str(built.path))   # CDLL: the call releases the GIL
         f = lib.rmtik_solve
         f.argtypes = [_ptr, _ptr, _ptr, ctypes.c_longlong, _ptr, ctypes.c_longlong, _ptr, _ptr, _ptr,
                       ctypes.c_longlong, ctypes.c_int, _dbl, _dbl, _dbl, _dbl, ctypes.c_int, ctypes.c_int,
@@ -134,7 +112,8 @@ class CompiledIK:
         self.lo = np.ascontiguousarray(self.chain.lower, dtype=float)
         self.hi = np.ascontiguousarray(self.chain.upper, dtype=float)
         self._p0 = np.ascontiguousarray(self.chain.parameter_values if self.n_p else np.zeros(1))
-        self.threads = int(os.environ.get("RMTKIT_THREADS", "0"))
+        #: threads of a batch call; None: ``$RMTKIT_THREADS`` or the CPUs this process may use, at each call
+        self.threads: int | None = None
         self._lo_p, self._hi_p = self.lo.ctypes.data, self.hi.ctypes.data
         self._rb = ReachBound(self.chain).constants()
         self._p0_p, self._rb_p = self._p0.ctypes.data, self._rb.ctypes.data
@@ -144,15 +123,10 @@ class CompiledIK:
         lib.rmtik_beyond_batch.restype = None
 
     @staticmethod
-    def source(sym) -> str:
-        """C source: CasADi's generated FK + Jacobian (``rmtik_fkj``) and the LM solver."""
-        f = ca.Function("rmtik_fkj", [sym.q, sym.p], [sym.T, sym.J], ["q", "p"], ["T", "J"])
-        cg = ca.CodeGenerator("rmtik.c", {"with_header": False, "casadi_real": "double",
-                                           "casadi_int": "long long int"})
-        cg.add(f)
-        body = IK_TEMPLATE.format(n=sym.n, sz_w=f.sz_w(), sz_iw=f.sz_iw(), sz_arg=max(f.sz_arg(), 2),
-                                  sz_res=max(f.sz_res(), 2))
-        return "#ifdef _OPENMP\n#include <omp.h>\n#endif\n" + cg.dump() + body
+    def header(sym) -> str:
+        """The generated header of ``ik.c``: the joint count and the graph of (q, p) → (T, J)."""
+        h = Header("the chain's numbers for kin/ik/ik.c").define("RMT_N", sym.n)
+        return graph_table(sym.fkj_function, "RMT_GRAPH", ["q", "p"], ["T", "J"], h).text()
 
     def beyond(self, Pt: np.ndarray, Rt: np.ndarray | None = None, params: np.ndarray | None = None) -> np.ndarray:
         """(N,) bool: the targets (positions (N, 3), rotations (N, 3, 3) or None) certainly out of reach
@@ -207,11 +181,15 @@ class CompiledIK:
                     None if Q0 is None else Q0.ctypes.data, q0stride, self._lo_p, self._hi_p, None if rb is None else rb.ctypes.data,
                     N, int(Rt is not None), self.weight, float(tol_position), float(tol_orientation),
                     float(tol_cost), int(max_iter), max(int(max_starts), 1), int(seed) & 0xFFFFFFFFFFFFFFFF,
-                    self.threads if threads is None else int(threads),
+                    self._threads(threads),
                     q.ctypes.data, errs.ctypes.data, errs.ctypes.data + 8 * N, ad, ad + 4 * N, ad + 8 * N)
         return {"q": q, "success": ints[0].astype(bool), "position_error": errs[0], "orientation_error": errs[1],
                 "starts": ints[1], "iterations": ints[2]}
 
+
+    def _threads(self, threads: int | None) -> int:
+        k = self.threads if threads is None else int(threads)
+        return k if k is not None and k > 0 else default_threads()
 
     def _solve_one(self, pt, R, seed, max_starts, max_iter, tol_position, tol_orientation) -> dict[str, np.ndarray]:
         """:meth:`solve` for one target without warm start, nominal parameters: through buffers whose

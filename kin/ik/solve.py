@@ -39,7 +39,7 @@ def solve_ik(robot, T, seed: int = 0, q0=None, mode: str = "auto", restarts: int
     params : design parameters (mapping, (n_p,) or (N, n_p)); None: nominal.
     method : ``"auto"`` (compiled, numpy without a compiler), ``"compiled"`` (raise
         :class:`~kin.errors.CompileError` without one) or ``"numeric"``.
-    threads : OpenMP threads of a batch (compiled solver); None: ``$RMTKIT_THREADS`` or every core.
+    threads : threads of a batch (compiled solver); None: ``$RMTKIT_THREADS`` or the CPUs this process may use.
 
     Returns :class:`IKResult`: for a target out of reach, success False and the configuration with
     the smallest residual found.

@@ -192,8 +192,8 @@ _STARTUP_SCRIPT = textwrap.dedent("""
     robot.fk(np.zeros(robot.n))
     t4 = time.perf_counter()
     extra = {}
-    if hasattr(ev, "source"):
-        s0 = time.perf_counter(); ev.source(); extra["codegen_again_s"] = time.perf_counter() - s0
+    if hasattr(ev, "header"):
+        s0 = time.perf_counter(); ev.header(); extra["codegen_again_s"] = time.perf_counter() - s0
     print(json.dumps({"total_s": t4 - t0, "load_chain_s": t1 - t0, "symbolic_s": t2 - t1,
                       "evaluator_s": t3 - t2, "first_fk_s": t4 - t3, "backend": ev.backend,
                       "cached": bool(getattr(ev, "cached", False)), **extra}))

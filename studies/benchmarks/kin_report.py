@@ -70,7 +70,7 @@ def format_report(R: dict) -> str:
                  f"   (cached={r['cached']}, backend={r['backend']}; subprocess wall incl. imports "
                  f"{r['subprocess_wall_s']:.2f})")
         if "codegen_again_s" in r:
-            L.append(f"        (C code generation + hashing alone, re-run afterwards: {r['codegen_again_s']:.3f})")
+            L.append(f"        (generated header alone, re-run afterwards: {r['codegen_again_s']:.3f})")
     L.append("")
     L.append("5. peers, one thread, the fast way each documents (best / median)")
     for key, p in R["peers"].items():

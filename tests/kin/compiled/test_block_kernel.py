@@ -1,4 +1,4 @@
-"""The block kernel (kin/compiled/graph_c.py, measures_c.py, kernel_source.py, build.py, evaluator.py):
+"""The block kernel (kin/compiled/kernel.c and its headers, kin/native/graph.py, evaluator.py):
 native and portable builds against the numpy DH reference and numpy's SVD/det, against each other
 and against CasADi's VM; blocks cut at every lane count; out= buffers; the thread count; the
 single-call extension path.  Nothing is timed."""
@@ -14,8 +14,7 @@ import pytest
 import kin
 from kin.compiled import (WANT_ALL, WANT_J, WANT_MANIP, WANT_SIGMA, WANT_T, CompiledEvaluator, default_threads,
                           find_compiler)
-from kin.compiled.build import python_extension_flags
-from kin.compiled.graph_c import c_double, graph_block_c
+from kin.native import c_double, graph_table, python_extension_flags
 from tests.chain_factory import fd_jacobian, random_chain, random_q
 from tests.dh_numpy import fk_numpy, jacobian_numpy
 
@@ -201,7 +200,7 @@ def test_arch_setting(monkeypatch, tmp_path):
     monkeypatch.setenv("RMTKIT_CACHE", str(tmp_path))
     monkeypatch.setenv("RMTKIT_ARCH", "portable")
     r = kin.Robot(kin.load_chain("planar_2r"))
-    assert r.evaluator.arch == "portable" and "_portable_" in r.evaluator.path.name
+    assert r.evaluator.arch == "portable" and "_portable-" in r.evaluator.path.name
     np.testing.assert_allclose(r.fk([0.3, 0.4])[:2, 3], [math.cos(0.3) + 0.8 * math.cos(0.7),
                                                          math.sin(0.3) + 0.8 * math.sin(0.7)], atol=1e-15)
     monkeypatch.setenv("RMTKIT_ARCH", "fastest")
@@ -263,13 +262,13 @@ def test_c_double_is_exact():
     assert c_double(math.inf) == "INFINITY" and c_double(-math.inf) == "(-INFINITY)" and c_double(math.nan) == "NAN"
 
 
-def test_graph_block_c_refuses_unknown_operations():
+def test_graph_table_refuses_unknown_operations():
     x = ca.SX.sym("x")
     f = ca.Function("f", [x], [ca.erf(x)])
     with pytest.raises(kin.CompileError, match="operation code"):
-        graph_block_c(f, "g", ["x"], ["y"])
+        graph_table(f, "g", ["x"], ["y"])
     with pytest.raises(kin.CompileError, match="names"):
-        graph_block_c(ca.Function("f", [x], [x * 2]), "g", ["x", "z"], ["y"])
+        graph_table(ca.Function("f", [x], [x * 2]), "g", ["x", "z"], ["y"])
 
 
 def test_single_call_without_extension_uses_library_buffers():
@@ -305,4 +304,4 @@ def test_each_library_keeps_its_own_extension_module():
         q = random_q(r.chain, 1, 21)[0]
         np.testing.assert_allclose(r.fk(q), fk_numpy(r.chain, q), atol=1e-12)
         if r.evaluator.single is not None:
-            assert r.evaluator.single.__name__ == r.evaluator.path.stem
+            assert r.evaluator.single.__name__ == r.evaluator.path.stem.replace("-", "_")

@@ -17,12 +17,12 @@ def test_compiles_once_into_the_cache_and_loads_from_it(tmp_path, monkeypatch):
     monkeypatch.setattr(native, "_loaded", {})
     f = native.load_reach()
     assert f is not None
-    libs = sorted(tmp_path.glob("rmt_timing_reach_*.so"))
+    libs = sorted((tmp_path / "native").glob("timing_reach_*.so"))
     assert len(libs) == 1
     mtime = libs[0].stat().st_mtime_ns
     monkeypatch.setattr(native, "_loaded", {})           # a new process: loads, does not recompile
     assert native.load_reach() is not None
-    assert libs[0].stat().st_mtime_ns == mtime and len(list(tmp_path.glob("*.so"))) == 1
+    assert libs[0].stat().st_mtime_ns == mtime and len(list((tmp_path / "native").glob("*.so"))) == 1
     tr = time_parameterize(np.array([[0.0, 0.0], [1.0, 0.5], [1.5, 1.5]]), 1.0, 2.0)
     assert "(c)" in tr.qp_status
 

@@ -1,15 +1,12 @@
-"""C source of TOPP-RA's two reachability passes over the stages of
-:mod:`planning.timing.reachability` (compiled on first use by :mod:`planning.timing.native`).
+/* TOPP-RA's two reachability passes over the stages of planning/timing/reachability.py, loaded by
+   planning/timing/native.py (built by kin.native.build; no generated header).
 
-Stage i holds half-planes A·x + C·y ≤ R in (x, y) = (b_i, b_{i+1}), rows ``off[i] … off[i+1]``.
-``rmt_reach`` writes hi (K+1,), the upper ends of the controllable sets [0, hi_i] (backward pass, one
-two-variable LP per stage, solved exactly by Seidel's incremental algorithm inside the box
-0 ≤ x ≤ xcap_i, 0 ≤ y ≤ hi_{i+1}), then b (K+1,), the greedy forward pass (b_0 = 0, b_{i+1} the
-largest y feasible with x = b_i and y ≤ hi_{i+1}).  It returns the number of stages where the forward
-pass found no feasible y beyond rounding (0 when all is well).
-"""
-
-REACH_SOURCE = r"""
+   Stage i holds half-planes A x + C y <= R in (x, y) = (b_i, b_{i+1}), rows off[i] ... off[i+1].
+   rmt_reach writes hi (K+1,), the upper ends of the controllable sets [0, hi_i] (backward pass, one
+   two-variable LP per stage, solved exactly by Seidel's incremental algorithm inside the box
+   0 <= x <= xcap_i, 0 <= y <= hi_{i+1}), then b (K+1,), the greedy forward pass (b_0 = 0, b_{i+1} the
+   largest y feasible with x = b_i and y <= hi_{i+1}).  It returns the number of stages where the
+   forward pass found no feasible y beyond rounding (0 when all is well). */
 #include <math.h>
 
 /* max x subject to a[k] x + c[k] y <= r[k], k < m (the first four: the box) -- Seidel's incremental
@@ -89,4 +86,3 @@ int rmt_reach(long long K, const long long *off, const double *A, const double *
     }
     return bad;
 }
-"""
