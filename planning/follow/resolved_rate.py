@@ -72,7 +72,7 @@ def resolved_rate(robot, path, q0, dt: float | None = None,
     listed in ``pinv_steps``.  A Jacobian with n ≠ 6 columns always uses the pseudo-inverse.  The
     condition number of J is recorded at every step.  ``jacobian(q) -> (6, n)`` replaces the robot's
     geometric Jacobian (to reproduce a method with a different one).  Joint limits are not enforced:
-    this is the method as a homework would write it.
+    this is the textbook method, with none of the follower's safeguards.
     """
     poses, t = _path_arrays(path, dt, "pose")
     q = _check_start(robot, q0)
