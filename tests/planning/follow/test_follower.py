@@ -118,6 +118,80 @@ def test_bad_input_is_a_typed_error_naming_the_parameter(fanuc):
     assert issubclass(FollowError, kin.RmtError)
 
 
+# ---- the naive method in the follower's task modes ---------------------------------------------------------
+@pytest.fixture(scope="module")
+def scara():
+    return kin.load_robot("scara_rrp")
+
+
+def _scara_line(robot, q0, delta, N=101, duration=2.0):
+    """Positions (N, 3) m along a straight line from fk(q0), and their times."""
+    p0 = robot.fk(q0)[:3, 3]
+    return p0 + np.outer(np.linspace(0.0, 1.0, N), delta), np.linspace(0.0, duration, N)
+
+
+def test_naive_position_mode_is_the_square_position_jacobian(scara):
+    # the SCARA controls x, y, z: its 3×3 position Jacobian is square, so solve, never pinv; and the
+    # open-loop method takes exactly the steps J_v⁻¹·Δp of the numpy Jacobian
+    from tests.dh_numpy import jacobian_numpy
+    q0 = np.array([0.3, 1.2, -0.15])
+    P, t = _scara_line(scara, q0, [0.05, -0.03, 0.02], N=6)
+    res = resolved_rate(scara, (P, t), q0, mode="position")
+    assert res.mode == "position" and res.pinv_steps == [] and res.diverged_at is None
+    q = q0.copy()
+    for k in range(len(P) - 1):
+        q = q + np.linalg.solve(jacobian_numpy(scara.chain, q)[:3], P[k + 1] - P[k])
+        np.testing.assert_allclose(res.q[k + 1], q, atol=1e-12)
+    assert math.isnan(res.max_orientation_error)                    # not tracked in position mode
+    assert res.summary()["mode"] == "position"
+    # in pose mode the 6×3 Jacobian is not square: the pseudo-inverse at every step, and the rotation
+    # rows it cannot serve pull the tool off the line
+    poses = np.tile(scara.fk(q0), (len(P), 1, 1))
+    poses[:, :3, 3] = P
+    pose = resolved_rate(scara, (poses, t), q0)
+    assert pose.pinv_steps == list(range(len(P) - 1))
+    assert pose.max_tracking_error > 10 * res.max_tracking_error
+
+
+def test_naive_axis_mode_leaves_the_turn_about_the_tool_axis_free(fanuc):
+    # a line with the tool turning about its own z axis: in axis mode that turn is not tracked, the
+    # tool axis is; in pose mode both are
+    q0 = np.array([0.0, 0.3, -0.4, 0.0, -0.9, 0.0])
+    T0 = fanuc.fk(q0)
+    N = 201
+    t = np.linspace(0.0, 2.0, N)
+    poses = np.tile(T0, (N, 1, 1))
+    poses[:, :3, 3] += np.outer(np.linspace(0, 1, N), [0.0, 0.1, 0.0])
+    for k, a in enumerate(np.linspace(0.0, 0.5, N)):
+        c, s_ = math.cos(a), math.sin(a)
+        poses[k, :3, :3] = T0[:3, :3] @ np.array([[c, -s_, 0], [s_, c, 0], [0, 0, 1]])
+    axis = resolved_rate(fanuc, (poses, t), q0, mode="axis")
+    pose = resolved_rate(fanuc, (poses, t), q0, mode="pose")
+    assert axis.pinv_steps == list(range(N - 1))                       # 5×6: not square
+    assert axis.max_orientation_error == pytest.approx(float(np.nanmax(axis.axis_error)))
+    assert axis.max_orientation_error < 1e-3 and axis.max_tracking_error < 1e-3
+    assert float(np.nanmax(axis.orientation_error)) > 0.3              # the turn of 0.5 rad is left out
+    assert pose.max_orientation_error < 1e-3
+    with pytest.raises(FollowError, match="mode 'joint' unknown"):
+        resolved_rate(fanuc, (poses, t), q0, mode="joint")
+
+
+def test_follower_beyond_reach_warns_nothing(scara):
+    # a line that leaves the SCARA's reach (675 mm) through its boundary singularity: windows are
+    # dropped as forced and the step is re-solved — without a numpy warning on the way
+    import warnings
+    q0 = np.array([0.0, 0.8, -0.15])
+    P, t = _scara_line(scara, q0, [0.3, 0.0, 0.0], N=151, duration=3.0)
+    windows = build_windows(scara, margin=0.05)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res = follow_path(scara, P, q0, windows, mode="position", dt=t[1])
+    assert not res.within_tolerance and res.speed_ratio <= 1 + 1e-9
+    # no configuration reaches past 675 mm: the error is at least the distance beyond it
+    beyond = np.linalg.norm(P[:, :2], axis=1).max() - 0.675
+    assert beyond > 0.05 and res.max_tracking_error >= beyond - 1e-9
+
+
 def test_window_ranges():
     w = np.array([-1, 0, 0, -1, 0, 2, 2, -1])
     out = window_ranges(w, ["a", "b", "c"])
