@@ -7,7 +7,6 @@ geometry in docs/machines.md §6.
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
 
 import numpy as np
@@ -311,38 +310,3 @@ def test_resolved_rate_at_an_exactly_singular_start(pen):
     res = resolved_rate(pen, (poses[:11], t[:11]), np.array(START_Q))
     assert res.pinv_steps[0] == 0 and math.isinf(res.condition[0])
     assert np.all(np.isfinite(res.q))
-
-
-def test_cli_drawing_json_and_plot(capsys, tmp_path, monkeypatch, drawing):
-    # the CLI glue end to end (arguments, JSON, plot file, exit codes) on the study computed above
-    import copy
-
-    import studies.drawing as sd
-    from studies.cli import main
-    calls = {}
-
-    def cached(robot, **kw):
-        calls.update(kw, robot=robot.name)
-        out = copy.deepcopy(drawing)
-        if not kw.get("series"):
-            out.pop("series")
-        return out
-
-    monkeypatch.setattr(sd, "run_drawing_study", cached)      # the command imports it when it runs
-    png = tmp_path / "drawing.png"
-    code = main(["drawing", "--json", "--plot", str(png)])
-    out, err = capsys.readouterr()
-    assert code == 0 and err == ""
-    d = json.loads(out)
-    assert calls["series"] is True and calls["robot"] == "ur3_homework_pen"
-    assert calls["window_margin"] == pytest.approx(math.radians(5))
-    assert d["qp"]["pose"]["within_tolerance"] and "series" not in d
-    assert d["start"]["condition"] is None                     # infinite → null in JSON
-    assert png.stat().st_size > 10_000 and png.read_bytes()[:4] == b"\x89PNG"
-    code = main(["drawing", "--margin", "2"])
-    out, err = capsys.readouterr()
-    assert code == 0 and "QP follower, pose mode" in out and "naive, homework J" in out
-    assert calls["window_margin"] == pytest.approx(math.radians(2))
-    code = main(["drawing", "--margin", "-3"])
-    _, err = capsys.readouterr()
-    assert code == 2 and "--margin" in err and "Traceback" not in err
