@@ -131,6 +131,8 @@ def cmd_follow(args, load_robot) -> int:
     if tp.t is None:
         raise CliInputError(f"{args.toolpath}: the tool path has no times; give it a feed, durations or a time "
                             "column (the followers move along it in time)")
+    if len(tp.poses) < 2:
+        raise CliInputError(f"{args.toolpath}: {len(tp.poses)} waypoint; a path to follow needs at least 2")
     mode = (check_mode(robot, args.mode, tp.has_orientation, "--mode") if args.mode
             else default_mode(robot, tp.has_orientation))
     start = None

@@ -195,12 +195,14 @@ def test_scara_beyond_its_reach(capsys, tmp_path):
     (["scara_rrp", "scara_line", "--tol-orientation", "nan"], ["--tol-orientation", "outside the allowed range"]),
     (["scara_rrp", "no_such_path"], ["no such tool-path file", "bundled:", "scara_line"]),
     (["scara_rrp", "{tmp}/untimed.csv"], ["no times"]),
+    (["scara_rrp", "{tmp}/one.csv"], ["one.csv: 1 waypoint; a path to follow needs at least 2"]),
     (["scara_rrp", "scara_line", "--plot", "/dev/null"], ["character device"]),
     (["no_robot", "scara_line"], ["unknown robot"]),
     (["ur3_homework_pen"], ["the following arguments are required: TOOLPATH"]),
 ])
 def test_bad_input_is_one_line_exit_2(capsys, tmp_path, argv, words):
     (tmp_path / "untimed.csv").write_text("x,y,z\n400,0,-150\n410,0,-150\n")
+    (tmp_path / "one.csv").write_text("x,y,z,feed\n400,0,-150,50\n")
     code, out, err = run(capsys, "follow", *[a.format(tmp=tmp_path) for a in argv])
     assert code == 2 and out == "", (out, err)
     assert err.startswith("rmt: error: ") and err.count("\n") == 1 and "Traceback" not in err
