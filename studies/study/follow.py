@@ -21,9 +21,10 @@ Everything is SI inside (m, rad, s); σ_min is that of the SI task Jacobian.
 
     robot = kin.load_robot("scara_rrp")
     path = load_toolpath(toolpath_file("scara_line"), robot)
-    q0, _ = start_configuration(robot, path.poses[0], "position")
-    comparison = follow_toolpath(robot, path, q0, mode="position", naive=True)
-    assert comparison.ok and comparison.runs[0].summary["within_tolerance"]
+    q0, start = start_configuration(robot, path.poses[0], "position")
+    comparison = follow_toolpath(robot, path, q0, mode="position", tolerance=(5e-3, 0.01), naive=True, start=start)
+    assert comparison.ok                                  # the follower within 5 mm at every waypoint
+    comparison.to_json()["methods"]["naive"]["max_position_error"]      # ≈ 15.9 (mm, the file's unit)
 """
 from __future__ import annotations
 
