@@ -1,5 +1,5 @@
-"""Joint-type architectures: the 2ⁿ R/P choices of an n-joint skeleton (the RMT thesis's
-"architectural styles"), each optimised and verified, then ranked.
+"""Joint-type architectures: the 2ⁿ R/P choices of an n-joint skeleton (the architectural styles of
+a reconfigurable machine), each optimised and verified, then ranked.
 
 A skeleton is the task's robot: its DH rows (α, fixed θ, parameterised a and d) stay; changing a
 joint's type changes which DH value is the joint variable.  A joint that becomes revolute gets

@@ -1,10 +1,10 @@
 """Reachable and functional workspace of a chain, estimated by sampling joint space.
 
-The workspace is estimated the way the singularity thesis did it, made measurable: sample the
-joint space (its per-joint grid, or a scrambled Sobol / uniform random sequence with a seed), map
-every sample through forward kinematics, and keep the tool positions (N, 3) together with one
-dexterity measure per sample.  Samples whose measure falls below a threshold are *near-singular*;
-the others form the thesis's "functional workspace".
+The workspace is sampled and made measurable: sample the joint space (a per-joint grid, or a
+scrambled Sobol / uniform random sequence with a seed), map every sample through forward
+kinematics, and keep the tool positions (N, 3) together with one dexterity measure per sample.
+Samples whose measure falls below a threshold are *near-singular*; the others form the sampled
+*functional workspace*, where the arm keeps the dexterity the threshold asks for.
 
 Volume is estimated by voxel occupancy.  The positions are binned into cubes of side ``voxel``
 anchored at the lower corner of the cloud's bounding box, and
@@ -90,7 +90,7 @@ def _check_seed(seed: Any) -> int:
 
 
 def grid_points_per_joint(n_samples: int, n: int) -> int:
-    """Points per joint of the thesis's grid: the smallest k with k**n >= n_samples (k >= 2)."""
+    """Points per joint of the per-joint grid: the smallest k with k**n >= n_samples (k >= 2)."""
     k = max(1, int(round(n_samples ** (1.0 / n))))
     while k ** n < n_samples:          # integer correction of the floating-point root
         k += 1
@@ -107,7 +107,7 @@ def sample_joint_space(robot: kin.Robot, n_samples: int, method: Literal["sobol"
       - ``"sobol"``: scrambled Sobol sequence (``scipy.stats.qmc.Sobol``, scrambled with ``seed``);
         2^m ≥ ``n_samples`` points are drawn with ``random_base2`` and the first ``n_samples`` kept.
       - ``"random"``: independent uniform samples, ``numpy.random.default_rng(seed)``.
-      - ``"grid"``: the thesis's per-joint grid, k = ⌈n_samples^(1/n)⌉ points per joint with both
+      - ``"grid"``: a per-joint grid, k = ⌈n_samples^(1/n)⌉ points per joint with both
         limits included (k ≥ 2), all kⁿ combinations.  N = kⁿ ≥ ``n_samples``: the count actually
         returned is ``len(result)``, not the request.  ``seed`` is not used.
 

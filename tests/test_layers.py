@@ -18,7 +18,7 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 LAYERS = ["kin", "planning", "design", "studies"]     # each may import only those before it (and itself)
 #: what each part of ``studies`` may import of ``studies`` besides itself.  "studies" stands for the
-#: package's own modules (studies/*.py: units, strict JSON, joint paths, task rows, the drawing task),
+#: package's own modules (studies/*.py: units, strict JSON, joint paths, task rows, published values),
 #: the bottom: they import no sub-package.  The command line is on top and nothing imports it; the
 #: benchmarks use the bottom only.
 STUDIES_PARTS = {

@@ -1,13 +1,13 @@
-"""Learned inverse kinematics and the singularity thesis's error windows, made exact and reproducible.
+"""Learned inverse kinematics and the learned-IK error windows, made exact and reproducible.
 
-The thesis trained a small neural network for inverse kinematics (one hidden layer of 55 tanh
-units; inputs the 9 rotation entries and the 3 position entries of the tool pose, outputs the joint
-values), evaluated it on poses where the arm is singular and called
+The learned-IK window method trains a small neural network for inverse kinematics (one hidden
+layer of 55 tanh units; inputs the 9 rotation entries and the 3 position entries of the tool pose,
+outputs the joint values), evaluates it on poses where the arm is singular and calls
 
     q_singular ± max |q_predicted − q_true|
 
-the singular joint's *error window*.  It hard-coded the singular value and gave no seed; its SCARA
-window was θ2 ∈ [−0.01, 0.01] rad (docs/machines.md §2).  Here:
+the singular joint's *error window*.  Done by hand, the method is not repeatable: the singular
+value is chosen by hand and the random draws are unseeded.  Here:
 
 * the singular values come from :func:`kin.singular.analyse_singularities` (every factor of
   det J, not one chosen by hand);
@@ -19,8 +19,9 @@ window was θ2 ∈ [−0.01, 0.01] rad (docs/machines.md §2).  Here:
 * every random draw (training data, network initialisation, held-out data, evaluation poses) is
   derived from one ``seed``: the same seed gives the same window.
 
-The learned error of a 55-unit network is typically far larger than the thesis's ±0.01 rad; that
-is the honest result and the reports say so (next to the thesis's value for the SCARA).
+The window measures the network as much as the arm: its size, its training poses and its seed set
+the width (a bigger or better-trained network gives a narrower one), and the reports give the
+held-out errors beside it so that a reader can tell.
 
 Branches
 --------
@@ -55,7 +56,7 @@ from __future__ import annotations
 import math
 import time
 import warnings
-from typing import Any, Mapping
+from typing import Mapping
 
 import numpy as np
 from sklearn.base import BaseEstimator
@@ -88,11 +89,6 @@ __all__ = ["LearnedIKError", "LearnedIK", "Branch", "resolve_branch", "default_n
 #: scikit-learn's MLP stochastic solvers catch Ctrl-C and only warn with this message.
 _SKLEARN_INTERRUPTED = "Training interrupted by user."
 
-#: The thesis's published learned-IK windows (docs/machines.md §2): robot → joint (1-based) and interval (rad).
-THESIS_WINDOWS: dict[str, dict[str, Any]] = {
-    "scara_rrp": {"joint": 2, "interval": (-0.01, 0.01),
-                  "source": "thesis on singularities and reach (docs/machines.md §2): θ2 ∈ [−0.01, 0.01] rad"},
-}
 #: Evaluation poses per factor (configurations on its zero set).
 DEFAULT_N_EVAL = 2000
 #: Training samples: position-only chains (few inputs) and full-pose chains (12 inputs).
@@ -112,7 +108,7 @@ _ENTRY_NAMES.update({(0, 3): "x", (1, 3): "y", (2, 3): "z"})
 
 def _feature_entries(robot) -> list[tuple[int, int]]:
     """Pose entries fed to the network: the 9 rotation and 3 position entries when the task has
-    rotation rows (6-joint arms: 12 inputs, as in the thesis), else the task's position entries."""
+    rotation rows (6-joint arms: 12 inputs), else the task's position entries."""
     rows = tuple(robot.task_rows)
     if any(r >= 3 for r in rows):
         return [(i, j) for i in range(3) for j in range(3)] + [(0, 3), (1, 3), (2, 3)]
@@ -135,7 +131,7 @@ class LearnedIK(BaseEstimator):
     """Inverse kinematics of one IK branch learned by a multilayer perceptron (scikit-learn).
 
     Configured in ``__init__`` (network settings, passed to ``MLPRegressor``; defaults: the
-    thesis's one hidden layer of 55 tanh units, Adam with early stopping on a 10 % validation
+    method's one hidden layer of 55 tanh units, Adam with early stopping on a 10 % validation
     split, at most ``max_iter`` epochs); trained by :meth:`fit` on forward-kinematics samples of a
     robot.  Inputs (pose entries) and outputs (joint values, SI) are standardised.
 

@@ -1,4 +1,4 @@
-"""The singularity thesis's error windows from a learned IK model (see :mod:`design.learned.ik`):
+"""Learned-IK error windows from a learned IK model (see :mod:`design.learned.ik`):
 evaluate the model on poses of configurations on each singular factor's zero set; the window's
 half-width is the largest joint error there."""
 from __future__ import annotations
@@ -25,9 +25,9 @@ from design.learned.branch import (
     _factor_keys,
     _rng,
 )
-from design.learned.ik import DEFAULT_N_EVAL, THESIS_WINDOWS, LearnedIK
+from design.learned.ik import DEFAULT_N_EVAL, LearnedIK
 
-__all__ = ["learned_window", "learned_windows", "jsonable_report", "THESIS_WINDOWS"]
+__all__ = ["learned_window", "learned_windows", "jsonable_report"]
 
 
 # ---- evaluation on the singular set ---------------------------------------------------------------
@@ -138,7 +138,7 @@ def _skipped(factor: SingularFactor, reason: str, seed: int, **extra) -> dict:
 def learned_window(robot, factor: SingularFactor, model: LearnedIK | None = None, n_train: int | None = None,
                    n_eval: int = DEFAULT_N_EVAL, seed: int = 0, branch: Mapping | None = None,
                    analysis: SingularityAnalysis | None = None) -> tuple[Window | None, dict]:
-    """The thesis's learned-IK error window of one singular factor, and a report.
+    """The learned-IK error window of one singular factor, and a report.
 
     ``model``: a fitted :class:`LearnedIK` (used as is; ``n_train`` and a different ``branch``
     are then refused), an unfitted one (a clone is fitted here with ``n_train``, ``seed``,
@@ -154,9 +154,8 @@ def learned_window(robot, factor: SingularFactor, model: LearnedIK | None = None
     Returns ``(window, report)``; ``window`` is None (and ``report["status"] == "skipped"``,
     with the reason) when the factor's zero set lies outside the joint limits or outside the
     branch.  The report holds: per-joint max/p95/mean errors at the singularity and on held-out
-    configurations of the branch, their ratio, sizes, the held-out R², the seed, the branch, the
-    thesis's window when it published one for this robot, and ``"data"`` (not JSON): ``q_true``,
-    ``q_pred`` (n_eval, n) and the fitted ``model``.
+    configurations of the branch, their ratio, sizes, the held-out R², the seed, the branch, and
+    ``"data"`` (not JSON): ``q_true``, ``q_pred`` (n_eval, n) and the fitted ``model``.
     """
     robot = _as_robot(robot)
     seed = _check_seed(seed)
@@ -233,12 +232,6 @@ def learned_window(robot, factor: SingularFactor, model: LearnedIK | None = None
         "model": est.summary(),
         "seconds": round(time.perf_counter() - t0, 3),
     }
-    thesis = THESIS_WINDOWS.get(robot.name)
-    if thesis is not None and j is not None and j + 1 == thesis["joint"]:
-        lo_t, hi_t = thesis["interval"]
-        report["thesis"] = {"joint": f"q{thesis['joint']}", "interval": [lo_t, hi_t], "width": 0.5 * (hi_t - lo_t),
-                            "source": thesis["source"], "ours_intervals": report["intervals"], "ours_width": width,
-                            "ours_over_thesis": width / (0.5 * (hi_t - lo_t))}
     report["data"] = {"q_true": Q, "q_pred": P, "model": est}
     return window, report
 

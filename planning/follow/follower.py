@@ -86,7 +86,9 @@ import scipy.sparse as sps
 
 from planning.follow.barriers import _Barrier
 from planning.follow.inputs import (
+    MODES,
     FollowError,
+    _check_mode,
     _check_start,
     _path_arrays,
     joint_velocity_limits,
@@ -102,7 +104,6 @@ from planning.windows import Window, WindowSet
 
 __all__ = ["follow_path", "MODES"]
 
-MODES = ("pose", "axis", "position")
 LAMBDA_MIN = 1e-9                    # always-on regularisation: P stays positive definite
 OSQP_SETTINGS = dict(verbose=False, eps_abs=1e-9, eps_rel=1e-9, eps_prim_inf=1e-7, eps_dual_inf=1e-7,
                      max_iter=20000, polishing=False, warm_starting=True, adaptive_rho=True)
@@ -142,8 +143,7 @@ def follow_path(robot, path, q0, windows: WindowSet | Sequence[Window] | None = 
     barrier_time : τ (s) of the discrete window barrier.
     window_buffer : buffer m_w as a fraction of each window's half-width (or of ε).
     """
-    if mode not in MODES:
-        raise FollowError(f"mode {mode!r} unknown; allowed: {', '.join(MODES)}")
+    _check_mode(mode)
     poses, t = _path_arrays(path, dt, mode)
     q = _check_start(robot, q0)
     n = robot.n
@@ -292,7 +292,8 @@ def follow_path(robot, path, q0, windows: WindowSet | Sequence[Window] | None = 
                 rp, ro = _task_error_norms(r, R, mode)
                 if rp > tol_p or ro > tol_o:
                     # which barriers bind?  If none, the windows are not what limits the tracking
-                    act = Adense[n:] @ res.x <= l[n:] + 1e-7 * np.maximum(1.0, np.abs(l[n:]))
+                    lw = np.where(np.isfinite(l[n:]), l[n:], 0.0)      # dropped barriers: l = −∞
+                    act = Adense[n:] @ res.x <= lw + 1e-7 * np.maximum(1.0, np.abs(lw))
                     act |= np.abs(res.y[n:]) > 1e-9
                     act &= np.isfinite(l[n:])
                     if act.any():

@@ -1,5 +1,6 @@
 """Inputs of the path followers (:func:`planning.follow.follow_path`,
-:func:`planning.follow.resolved_rate.resolved_rate`): the :class:`FollowError` they raise for a bad request,
+:func:`planning.follow.resolved_rate.resolved_rate`): their task :data:`MODES`, the :class:`FollowError`
+they raise for a bad request,
 the joint-speed limits with their defaults (:data:`DEFAULT_V_MAX_REVOLUTE` = π rad/s,
 :data:`DEFAULT_V_MAX_PRISMATIC` = 0.5 m/s, used where the robot file gives no ``max_velocity``), the
 path as (poses (N, 4, 4), times (N,)) arrays, and the check of the start configuration.
@@ -14,7 +15,11 @@ from kin.errors import ConfigurationError
 
 from planning.errors import PlanningError
 
-__all__ = ["FollowError", "DEFAULT_V_MAX_REVOLUTE", "DEFAULT_V_MAX_PRISMATIC", "joint_velocity_limits"]
+__all__ = ["FollowError", "MODES", "DEFAULT_V_MAX_REVOLUTE", "DEFAULT_V_MAX_PRISMATIC", "joint_velocity_limits"]
+
+#: the task modes of both followers: position and full orientation (6 DOF), position and the tool z
+#: axis (5 DOF), the tool point only (3 DOF)
+MODES = ("pose", "axis", "position")
 
 DEFAULT_V_MAX_REVOLUTE = math.pi     # rad/s, used when a revolute joint has no max_velocity
 DEFAULT_V_MAX_PRISMATIC = 0.5        # m/s, used when a prismatic joint has no max_velocity
@@ -37,6 +42,12 @@ def joint_velocity_limits(robot, v_max=None) -> np.ndarray:
     if v.shape != (n,) or not np.all(np.isfinite(v)) or not np.all(v > 0):
         raise FollowError(f"v_max {v_max!r} must be a positive finite number or {n} of them (rad/s, m/s)")
     return v.astype(float).copy()
+
+
+def _check_mode(mode) -> str:
+    if mode not in MODES:
+        raise FollowError(f"mode {mode!r} unknown; allowed: {', '.join(MODES)}")
+    return mode
 
 
 def _path_arrays(path, dt: float | None, mode: str) -> tuple[np.ndarray, np.ndarray]:

@@ -1,4 +1,4 @@
-"""Tool-path validation: the singularity thesis's validation model, as offline-programming tools do it.
+"""Tool-path validation as offline-programming tools do it: continuous IK along the path, checked waypoint by waypoint.
 
 :func:`validate_toolpath` follows a Cartesian :class:`~planning.toolpath.ToolPath` with a continuous
 inverse-kinematics solution and reports, per waypoint, whether the robot can do it:

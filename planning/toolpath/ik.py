@@ -75,7 +75,8 @@ class _Tracker:
     Jacobian is square and the step stays moderate, otherwise the damped normal equations
     (J_wᵀJ_w + μ·I)·Δq = J_wᵀ·e (Cholesky, ``dposv``).  A step is kept only when it lowers ‖e‖;
     otherwise the damping grows (Newton falls back to LM).  Near a singularity — where the
-    homework's naive q += J⁻¹·ẋ·Δt fails — the damping keeps the step bounded.
+    undamped resolved-rate step q += J⁻¹·ẋ·Δt grows without bound — the damping keeps the step
+    bounded.
     """
 
     def __init__(self, robot, pose: bool, w: float, tol_p: float, tol_o: float, big_step: float):

@@ -2,7 +2,8 @@
 (the report's introduction) and ``run(s: studies.study.Study)``.  Read one, copy it, change it: a copy
 runs as ``python my_study.py [--quick] [--out DIR]`` (see :func:`studies.study.script.main`).  A study
 is one plain script: it imports the public API (``kin``, ``planning``, ``design``, ``studies.study``,
-``studies.plots``, ``studies.report``) and nothing beside it, so a copy needs no other file.
+``studies.plots``, ``studies.report`` and the package's own modules, such as ``studies.toolpaths`` and
+``studies.published``) and nothing beside it, so a copy needs no other file.
 
 The modules are imported only when a study is run or listed, so ``rmt --help`` stays fast.
 """

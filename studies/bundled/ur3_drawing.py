@@ -23,10 +23,11 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from planning.follow import follow_path
-from studies.drawing import START_Q, drawing_path, drawing_windows, run_drawing_study, solver_output_silenced
 from studies.plots.drawing import plot_drawing
 from studies.report.view3d import robot_view
 from studies.study import Study, main, sections
+from studies.study.drawing import START_Q, drawing_path, drawing_windows, run_drawing_study
+from studies.study.follow import solver_output_silenced
 
 NAME = "ur3_drawing"
 TITLE = "UR3-like homework arm: the pen drawing from a singular start, naive J⁻¹ against the QP follower"
@@ -94,7 +95,7 @@ def run(s: Study) -> None:
         s.table(["inverse-kinematics branch", "θ1 over the drawing", "|θ5| (or 180° − |θ5|)",
                  f"waypoints in the ±{margin_deg:g}° window", "share (%)"], rows,
                 f"The two shoulder solutions at each of the {fb['waypoints']} waypoints, in closed form from the pen "
-                "tip and the pen axis (`studies.drawing.wrist_branches`). Pose mode and pen-axis mode hold the "
+                "tip and the pen axis (`studies.study.drawing.wrist_branches`). Pose mode and pen-axis mode hold the "
                 "same tip and axis, so this holds for both.", fmt=".4g")
         s.text("The other solution is not singular, but it has joint 1 turned by about 150°: the arm cannot get "
                "there while the pen stays on the drawing. Any method that holds the pen axis on this path — the "
@@ -171,7 +172,7 @@ def run(s: Study) -> None:
                             title="The follower's drawing (pose mode)"), "drawing_3d",
                  "The arm at the start pose and the pen path of the follower in pose mode (the slider moves the arm "
                  "along it).")
-        # rmt drawing's explanation, without the two sentences the section above already gives
+        # the drawing's explanation, without the two sentences the section above already gives
         for line in res["explanation"]:
             if not line.startswith(("The path alone says so", "Pose mode", "Axis mode", "Pose and axis mode")):
                 s.text(line)
@@ -252,7 +253,7 @@ def _corners(ax, t, corners) -> None:
 def wrist_figure(result: dict) -> Figure:
     """Two panels over time: θ5 (deg) of every method with the wrist window ±w shaded and the two
     closed-form branches (the start branch θ5 = 0, the other shoulder solution's |θ5|), and σ_min of
-    the Jacobian (log scale).  ``result``: :func:`studies.drawing.run_drawing_study` with series."""
+    the Jacobian (log scale).  ``result``: :func:`studies.study.drawing.run_drawing_study` with series."""
     s, fb = result["series"], result["forced_by_path"]
     t, corners = s["t"], result["path"]["corners"]
     w = math.degrees(fb["margin_rad"])

@@ -1,82 +1,194 @@
-"""``rmt drawing``: the homework's drawing task (docs/machines.md §6) from a singular start — the naive
-resolved-rate method against the OSQP path follower (:mod:`studies.drawing`)."""
+"""``rmt follow``: follow a Cartesian tool path (CSV or TOML, or a bundled one) with the OSQP path
+follower and, with ``--naive``, with the naive resolved-rate method for comparison; per method the
+peak joint speed, the largest position and orientation errors, whether it stayed within tolerance
+and the waypoints it spent inside a singular window (:mod:`studies.study.follow`).  Exit 0 when the
+follower stays within tolerance, 1 when not, 2 on bad input."""
 from __future__ import annotations
 
 import math
 
-import kin
-
-from studies.cli.common import bounded, output_file
+from studies.cli.common import (
+    EXIT_FAIL,
+    EXIT_OK,
+    MAX_SIGMA,
+    CliInputError,
+    bounded,
+    output_file,
+    sampled_windows_note,
+    windows_from_args,
+)
 from studies.jsonio import dump
+from studies.taskrows import require_task_rows
+from studies.toolpaths import bundled_toolpaths, toolpath_file
+from studies.units import joint_units
 
-#: the QP follower's task modes (planning.follow.MODES, listed here so that registering the command
+#: the followers' task modes (planning.follow.MODES, listed here so that registering the command
 #: does not import OSQP; a test keeps the two equal)
 MODES = ("pose", "axis", "position")
 
 
-def _ranges(d: dict) -> str:
-    if not d["windows_entered"]:
-        return "none"
-    return "; ".join(f"{w['name']}: waypoints " + ", ".join(f"{a}–{b}" for a, b in w["ranges"])
-                     for w in d["windows_entered"])
+def _fmt(x: float | None, unit: str = "") -> str:
+    if x is None:
+        return "—"
+    if not math.isfinite(x):
+        return "inf" if x > 0 else "nan"
+    return f"{x:.3g}" + (f" {unit}" if unit else "")
 
 
-def cmd_drawing(args, load_robot) -> int:
-    from studies.drawing import pen_robot, run_drawing_study, solver_output_silenced
+def follow_text(comparison) -> str:
+    """The verdict line, what was followed, then one column per method (robot file units)."""
+    robot = comparison.robot
+    c = robot.chain
+    L, A, Lu, Au = c.length_scale, c.angle_scale, c.length_unit, c.angle_unit
+    var, units = c.variable_scale, joint_units(c)
+    qp = comparison.runs[0].summary
+    tol = f"{comparison.tolerance[0] / L:g} {Lu}" + (
+        "" if comparison.mode == "position" else f", {comparison.tolerance[1] / A:g} {Au}")
+    verdict = ("the QP follower stays within tolerance" if qp["within_tolerance"] else
+               f"the QP follower leaves the tolerance ({tol})")
+    length = "" if comparison.length is None else f", {comparison.length / L:.4g} {Lu}"
+    head = (f"{robot.name} following {comparison.source or 'the tool path'} ({len(comparison.poses)} waypoints"
+            f"{length}, {comparison.times[-1] - comparison.times[0]:.4g} s), {comparison.mode} mode: {verdict}")
+    st = comparison.start
+    q0 = comparison.q0 / var
+    q0 = (f"({', '.join(f'{v:.6g}' for v in q0)}) {units[0]}" if len(set(units)) == 1 else
+          "(" + ", ".join(f"{v:.6g} {u}" for v, u in zip(q0, units)) + ")")
+    how = st.get("from", "given")
+    if "position_error" in st:
+        how += f", error {st['position_error'] / L:.3g} {Lu}" + ("" if st.get("success", True) else ": no IK solution")
+    ws = comparison.windows.windows if comparison.windows is not None else []
+    info = [("start", f"q = {q0} ({how})"), ("tolerance", tol),
+            ("windows", ", ".join(w.name for w in ws) if ws else "none (give --margin or --sigma-min)")]
+    w = max(len(k) for k, _ in info)
+    lines = [head] + [f"  {k:<{w}}  {v}" for k, v in info] + [""]
+
+    cols = [r.label for r in comparison.runs]
+    rows = []
+    n = len(comparison.poses)
+    for name, get in (
+            ("within tolerance", lambda s: "yes" if s["within_tolerance"] else "no"),
+            ("peak joint speed", lambda s: (f"{_fmt(s['peak_joint_speed'] / var[s['peak_joint'] - 1])} "
+                                            f"{units[s['peak_joint'] - 1]}/s (q{s['peak_joint']})")
+             if s["peak_joint"] else "0"),
+            ("max speed / limit", lambda s: _fmt(s["max_speed_ratio"])),
+            ("max position error", lambda s: _fmt(s["max_position_error"] / L, Lu)),
+            ("max orientation error", lambda s: "(not tracked)" if s["max_orientation_error"] is None
+             else _fmt(s["max_orientation_error"] / A, Au) + (" (tool axis)" if s["mode"] == "axis" else "")),
+            ("in a singular window", lambda s: "—" if not ws else
+             f"{s['waypoints_in_window']}/{n} waypoints ({100 * s['share_in_window']:.3g} %)"),
+            ("min σ_min (SI)", lambda s: _fmt(s["min_sigma"]))):
+        rows.append([name] + [get(r.summary) for r in comparison.runs])
+    widths = [max(len(str(x)) for x in col) for col in zip(["", *cols], *rows)]
+    lines.append("  " + "  ".join(f"{x:<{widths[i]}}" for i, x in enumerate(["", *cols])).rstrip())
+    for row in rows:
+        lines.append("  " + "  ".join(f"{x:<{widths[i]}}" for i, x in enumerate(row)).rstrip())
+    lines.append("")
+    for r in comparison.runs:
+        s = r.summary
+        notes = ["; ".join(f"{e['name']} at waypoints " + ", ".join(f"{a}–{b}" if b > a else f"{a}"
+                                                                    for a, b in e["ranges"])
+                           for e in s["windows_entered"])] if s["windows_entered"] else []
+        if r.key == "qp":
+            if s["forced_steps"]:
+                notes.append(f"{s['forced_steps']} of {n - 1} steps forced into a window (no configuration "
+                             "outside it met the next waypoint)")
+        else:
+            rows = {"pose": 6, "axis": 5, "position": 3}[s["mode"]]
+            if rows != robot.n:
+                notes.append(f"minimum-norm pseudo-inverse at every step (the {rows}×{robot.n} task Jacobian is not "
+                             "square)")
+            elif s["pinv_steps"]:
+                notes.append(f"pseudo-inverse at {s['pinv_steps']} step(s) where J is exactly singular")
+            if s["max_finite_condition"] is not None:
+                notes.append(f"largest finite condition number of J {s['max_finite_condition']:.3g}")
+            if s["diverged_at"] is not None:
+                notes.append(f"diverged at waypoint {s['diverged_at']} (joint values no longer finite)")
+        if notes:
+            lines.append(f"  {r.label}: " + "; ".join(notes))
+    return "\n".join(lines).rstrip()
+
+
+def _positive_or_default(value: float | None, scale: float, default: float) -> float:
+    return default if value is None else value * scale
+
+
+def cmd_follow(args, load_robot) -> int:
+    import sys
+
+    from planning.toolpath import load_toolpath
+    from studies.cli.kinematics import configuration
+    from studies.study.follow import (
+        DEFAULT_TOLERANCE,
+        check_mode,
+        default_mode,
+        follow_toolpath,
+        start_configuration,
+    )
     output_file(args.plot)
-    robot = load_robot("ur3_homework_pen") if "ur3_homework_pen" in kin.bundled_robots() else pen_robot()
-    margin = math.radians(5.0 if args.margin is None else args.margin)
-    with solver_output_silenced():
-        res = run_drawing_study(robot, window_margin=margin, modes=args.modes or MODES, series=bool(args.plot))
+    robot = require_task_rows(load_robot(args.robot))
+    c = robot.chain
+    tp = load_toolpath(toolpath_file(args.toolpath), robot)
+    if tp.t is None:
+        raise CliInputError(f"{args.toolpath}: the tool path has no times; give it a feed, durations or a time "
+                            "column (the followers move along it in time)")
+    if len(tp.poses) < 2:
+        raise CliInputError(f"{args.toolpath}: {len(tp.poses)} waypoint; a path to follow needs at least 2")
+    mode = (check_mode(robot, args.mode, tp.has_orientation, "--mode") if args.mode
+            else default_mode(robot, tp.has_orientation))
+    start = None
+    if args.start is not None:
+        start = configuration(robot, args.start, "--start")
+        robot.check_limits(start)
+    tolerance = (_positive_or_default(args.tol_position, c.length_scale, DEFAULT_TOLERANCE[0]),
+                 _positive_or_default(args.tol_orientation, c.angle_scale, DEFAULT_TOLERANCE[1]))
+    ws = windows_from_args(robot, args.margin, args.sigma_min)
+    note = sampled_windows_note(ws, "the waypoints inside them are counted as far as their samples show")
+    if note:
+        print(note, file=sys.stderr)
+    if start is None:
+        start, info = start_configuration(robot, tp.poses[0], mode)
+        if not info["success"]:
+            print(f"note: IK found no configuration for waypoint 0 (position error "
+                  f"{info['position_error'] / c.length_scale:.3g} {c.length_unit}); the followers start from the "
+                  "nearest one it found (give --start)", file=sys.stderr)
+    else:
+        info = {"from": "--start"}
+    comparison = follow_toolpath(robot, tp, start, ws, mode=mode, tolerance=tolerance, naive=args.naive, start=info)
     if args.plot:
-        from studies.plots.drawing import plot_drawing
-        plot_drawing(res, args.plot)
-    res.pop("series", None)
+        from studies.plots.follow import plot_follow
+        plot_follow(comparison, args.plot)
     if args.json:
-        print(dump(res))
-        return 0
-    p, st, tol = res["path"], res["start"], res["tolerance"]
-    print(f"Drawing task (docs/machines.md §6) on {res['robot']} (pen d6 = {res['pen_d6_m']:g} m): "
-          f"{len(p['segments'])} segments × {p['segment_time_s']:g} s × {p['points_per_segment']} points "
-          f"(Δt = {p['dt_s'] * 1e3:g} ms, {p['waypoints']} waypoints), plane {p['plane']}")
-    cond = "inf" if not math.isfinite(st["condition"]) else f"{st['condition']:.3g}"
-    print(f"start q = ({', '.join(f'{x:g}' for x in st['q_deg'])})°: σ_min(J) = {st['sigma_min']:.3g}, "
-          f"condition {cond}; lost twist along rotation about base y (pen-axis component "
-          f"{st['lost_rotation_about_pen_axis']:.3g})")
-    print(f"tolerance: {tol['position_m'] * 1e3:g} mm, {tol['orientation_deg']:g}°; windows: "
-          + ", ".join(f"{w['name']} (±{math.degrees(w['half_width']):g}°)" for w in res["windows"]))
-    print()
-    print(f"{'method':<34} {'peak speed':>12} {'max pos err':>12} {'max orient':>11}  result")
-    rows = [("naive, homework J (z1…z6)", res["naive_homework"]), ("naive, correct J (z0…z5)", res["naive"])]
-    for name, d in rows:
-        print(f"{name:<34} {d['peak_joint_speed']:>8.3g} r/s {d['max_position_error_m']:>10.3g} m "
-              f"{math.degrees(d['max_orientation_error_rad']):>9.3g}°  {d['verdict']}; pinv at {d['pinv_steps']} "
-              "step(s)")
-    for m, d in res["qp"].items():
-        orient = {"pose": d["max_orientation_error_rad"], "axis": d["max_axis_error_rad"]}.get(m, math.nan)
-        o = f"{math.degrees(orient):>9.3g}°" if math.isfinite(orient) else f"{'(free)':>10}"
-        print(f"{'QP follower, ' + m + ' mode':<34} {d['peak_joint_speed']:>8.3g} r/s {d['max_position_error_m']:>10.3g} m "
-              f"{o}  {d['verdict']}; forced steps {d['forced_steps']}; in windows: {_ranges(d)}")
-        if m == "position":
-            print(f"{'':<34} pen tilt up to {math.degrees(d['pen_tilt_max_rad']):.3g}° (orientation not tracked)")
-    c = res.get("comparison")
-    if c:
-        print(f"\nnaive (homework) peak speed / QP ({c['reference_mode']}) peak speed = "
-              f"{c['naive_homework_peak_over_qp']:.3g}; naive (correct J) / QP = {c['naive_peak_over_qp']:.3g}")
-    print()
-    for line in res["explanation"]:
-        print(f"- {line}")
-    if args.plot:
-        print(f"\nwrote {args.plot}")
-    return 0
+        print(dump(comparison.to_json(waypoints=args.waypoints)))
+    else:
+        print(follow_text(comparison))
+        if args.plot:
+            print(f"wrote {args.plot}")
+    return EXIT_OK if comparison.ok else EXIT_FAIL
 
 
 def add_commands(add) -> None:
-    """Register the commands with the CLI's ``add(name, func, help)`` helper."""
-    sp = add("drawing", cmd_drawing, "the homework's drawing task from a singular start: naive resolved rate "
-                                     "vs the OSQP path follower")
-    sp.add_argument("--plot", metavar="FILE.png", help="write joint speeds and tracking errors against time")
-    sp.add_argument("--margin", type=bounded(0, 45, "degrees"), metavar="DEG", help="half-width of the singular windows in degrees "
-                                                                "(default 5)")
-    sp.add_argument("--modes", nargs="+", choices=MODES, metavar="MODE",
-                    help=f"QP follower task modes to run (default: all of {', '.join(MODES)})")
+    """Register ``follow`` with the CLI's ``add(name, func, help)`` helper."""
+    sp = add("follow", cmd_follow, "follow a Cartesian tool path with the OSQP follower (and the naive resolved-rate "
+                                   "method): joint speeds, errors, singular windows; exit 0 within tolerance, 1 not")
+    sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
+    sp.add_argument("toolpath", metavar="TOOLPATH",
+                    help="tool path with times or a feed: .csv (waypoints) or .toml (segments), in the robot file's "
+                         "units; or the name of a bundled example (" + ", ".join(bundled_toolpaths()) + ")")
+    sp.add_argument("--start", nargs="+", metavar="Q",
+                    help="start configuration, file units (default: IK of the first waypoint)")
+    sp.add_argument("--mode", choices=MODES,
+                    help="task: pose (6 DOF), axis (position and tool z axis, 5 DOF) or position (3 DOF); default: "
+                         "pose when the path gives orientations and the robot controls them, else position")
+    g = sp.add_mutually_exclusive_group()
+    g.add_argument("--margin", type=bounded(0, math.inf, "(robot file units)"), metavar="X",
+                   help="singular windows of this half-width, file units (angle for revolute factors, length otherwise)")
+    g.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S",
+                   help="singular windows from a σ_min threshold (SI)")
+    sp.add_argument("--naive", action="store_true",
+                    help="also run the naive resolved-rate method q += J⁻¹·ẋ·Δt on the same task, for comparison")
+    sp.add_argument("--tol-position", type=bounded(0, math.inf, "(file length unit)", open_low=True), metavar="E",
+                    help="position tolerance, file length unit (default 1 mm)")
+    sp.add_argument("--tol-orientation", type=bounded(0, math.inf, "(file angle unit)", open_low=True), metavar="E",
+                    help="orientation tolerance, file angle unit (default 1°)")
+    sp.add_argument("--waypoints", action="store_true", help="with --json: include the per-waypoint arrays")
+    sp.add_argument("--plot", metavar="FILE.png", help="write joint speeds, position errors and σ_min against time")

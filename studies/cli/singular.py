@@ -105,8 +105,13 @@ def cmd_windows(args, load_robot) -> int:
                                 f"finish within --exact-timeout {args.exact_timeout:g} s (give more, or use "
                                 "--margin or --sigma-min)")
         from design.learned.windows import jsonable_report, learned_windows
+        from studies.published import compare_learned_window
         ws, reports = learned_windows(robot, analysis=analysis, seed=args.seed)
         reports = [jsonable_report(r) for r in reports]
+        for r in reports:           # the published window beside ours, where one was published
+            published = compare_learned_window(r, robot.name)
+            if published is not None:
+                r["published"] = published
     if args.out:
         ws.save(args.out)
     out = ws.to_dict()
@@ -117,11 +122,10 @@ def cmd_windows(args, load_robot) -> int:
         return 0
     print(_windows_text(robot, ws))
     for r in reports or []:
-        t = r.get("thesis")
+        t = r.get("published")
         if t:
-            print(f"  the thesis published {t['joint']} ∈ [{t['interval'][0]:g}, {t['interval'][1]:g}] rad "
-                  f"(half-width {t['width']:g}); learned here: half-width {t['ours_width']:.4g} rad "
-                  f"({t['ours_over_thesis']:.1f}× wider)")
+            print(f"  published: {t['source']}; learned here: {t['joint']} half-width {t['ours_width']:.4g} rad "
+                  f"({t['ours_over_published']:.1f}× the published {t['width']:g} rad)")
     if args.out:
         print(f"wrote {args.out}")
     return 0
@@ -180,7 +184,7 @@ def add_commands(add) -> None:
     g.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S",
                    help="dexterity threshold: σ_min of the Jacobian in SI units stays ≥ S outside the windows")
     g.add_argument("--learned", action="store_true",
-                   help="the thesis's method: widths from a learned IK model's error at singular poses")
+                   help="learned-IK windows: widths from a learned IK model's error at singular poses")
     sp.add_argument("--out", metavar="FILE.json", help="save the windows (SI units) to a JSON file")
     sp.add_argument("--seed", type=seed, default=0,
                     help="seed of the learned model (default 0); margin and σ_min windows do not depend on it")

@@ -1,6 +1,6 @@
-"""Figure of the drawing study (:mod:`studies.drawing`): joint speeds of the naive resolved-rate
-method and of the QP follower, and the tracking error of every method, against time.  Matplotlib
-Figure API (Agg, no pyplot state); written atomically."""
+"""Figure of the drawing study (the bundled study ``ur3_drawing``, :mod:`studies.study.drawing`): joint
+speeds of the naive resolved-rate method and of the QP follower, and the tracking error of every
+method, against time.  Matplotlib Figure API (Agg, no pyplot state); written atomically."""
 from __future__ import annotations
 
 import os
@@ -26,7 +26,7 @@ def _positive(x: np.ndarray, floor: float) -> np.ndarray:
 def plot_drawing(result: dict, path: str | os.PathLike, title: str = "") -> Path:
     """Three panels over time: per-joint speeds of the homework's naive method (log scale), per-joint
     speeds of the QP follower (reference mode), and the position tracking error of every method (log
-    scale).  ``result`` is :func:`~studies.drawing.run_drawing_study` with ``series=True``."""
+    scale).  ``result`` is :func:`~studies.study.drawing.run_drawing_study` with ``series=True``."""
     s = result["series"]
     t = s["t"]
     ref = result.get("comparison", {}).get("reference_mode")

@@ -4,8 +4,11 @@ sections several studies share (:mod:`~studies.study.sections`) and the text rep
 
 Helpers studies share, one module each: the singular set as JSON in file units
 (:mod:`~studies.study.singular`), a tool path's validation as JSON (:mod:`~studies.study.toolpath`),
-window margins in file units (:mod:`~studies.study.windows`), the angle between two rotations
-(:mod:`~studies.study.rotations`) and the SCARA in closed form (:mod:`~studies.study.scara`)."""
+a tool path followed by the OSQP follower and the naive resolved-rate method, summed up
+(:mod:`~studies.study.follow`), the drawing task of the ``ur3_drawing`` study with its closed forms
+(:mod:`~studies.study.drawing`), window margins in file units (:mod:`~studies.study.windows`), the
+angle between two rotations (:mod:`~studies.study.rotations`) and the SCARA in closed form
+(:mod:`~studies.study.scara`)."""
 from studies.study.context import Study, run_study_function
 from studies.study.kinematics import StudyFileError, load_study
 from studies.study.report import study_report

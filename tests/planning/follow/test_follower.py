@@ -1,13 +1,11 @@
-"""Tests of planning.follow (OSQP path follower, naive resolved rate) and of the drawing study.
+"""Tests of planning.follow (OSQP path follower, naive resolved rate).
 
 Tracking errors are recomputed with the plain numpy DH of ``dh_numpy`` (not rmtkit's kinematics);
-limits are checked on the returned joint path itself; the drawing path is checked against the task's
-geometry in docs/machines.md §6.
+limits are checked on the returned joint path itself.
 """
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
 
 import numpy as np
@@ -24,7 +22,6 @@ from planning.follow import (
     window_ranges,
 )
 from planning.windows import build_windows
-from studies.drawing import START_Q, drawing_path, homework_jacobian, pen_robot, run_drawing_study
 
 
 def _errors_numpy(chain, Q, poses):
@@ -118,6 +115,80 @@ def test_bad_input_is_a_typed_error_naming_the_parameter(fanuc):
     assert issubclass(FollowError, kin.RmtError)
 
 
+# ---- the naive method in the follower's task modes ---------------------------------------------------------
+@pytest.fixture(scope="module")
+def scara():
+    return kin.load_robot("scara_rrp")
+
+
+def _scara_line(robot, q0, delta, N=101, duration=2.0):
+    """Positions (N, 3) m along a straight line from fk(q0), and their times."""
+    p0 = robot.fk(q0)[:3, 3]
+    return p0 + np.outer(np.linspace(0.0, 1.0, N), delta), np.linspace(0.0, duration, N)
+
+
+def test_naive_position_mode_is_the_square_position_jacobian(scara):
+    # the SCARA controls x, y, z: its 3×3 position Jacobian is square, so solve, never pinv; and the
+    # open-loop method takes exactly the steps J_v⁻¹·Δp of the numpy Jacobian
+    from tests.dh_numpy import jacobian_numpy
+    q0 = np.array([0.3, 1.2, -0.15])
+    P, t = _scara_line(scara, q0, [0.05, -0.03, 0.02], N=6)
+    res = resolved_rate(scara, (P, t), q0, mode="position")
+    assert res.mode == "position" and res.pinv_steps == [] and res.diverged_at is None
+    q = q0.copy()
+    for k in range(len(P) - 1):
+        q = q + np.linalg.solve(jacobian_numpy(scara.chain, q)[:3], P[k + 1] - P[k])
+        np.testing.assert_allclose(res.q[k + 1], q, atol=1e-12)
+    assert math.isnan(res.max_orientation_error)                    # not tracked in position mode
+    assert res.summary()["mode"] == "position"
+    # in pose mode the 6×3 Jacobian is not square: the pseudo-inverse at every step, and the rotation
+    # rows it cannot serve pull the tool off the line
+    poses = np.tile(scara.fk(q0), (len(P), 1, 1))
+    poses[:, :3, 3] = P
+    pose = resolved_rate(scara, (poses, t), q0)
+    assert pose.pinv_steps == list(range(len(P) - 1))
+    assert pose.max_tracking_error > 10 * res.max_tracking_error
+
+
+def test_naive_axis_mode_leaves_the_turn_about_the_tool_axis_free(fanuc):
+    # a line with the tool turning about its own z axis: in axis mode that turn is not tracked, the
+    # tool axis is; in pose mode both are
+    q0 = np.array([0.0, 0.3, -0.4, 0.0, -0.9, 0.0])
+    T0 = fanuc.fk(q0)
+    N = 201
+    t = np.linspace(0.0, 2.0, N)
+    poses = np.tile(T0, (N, 1, 1))
+    poses[:, :3, 3] += np.outer(np.linspace(0, 1, N), [0.0, 0.1, 0.0])
+    for k, a in enumerate(np.linspace(0.0, 0.5, N)):
+        c, s_ = math.cos(a), math.sin(a)
+        poses[k, :3, :3] = T0[:3, :3] @ np.array([[c, -s_, 0], [s_, c, 0], [0, 0, 1]])
+    axis = resolved_rate(fanuc, (poses, t), q0, mode="axis")
+    pose = resolved_rate(fanuc, (poses, t), q0, mode="pose")
+    assert axis.pinv_steps == list(range(N - 1))                       # 5×6: not square
+    assert axis.max_orientation_error == pytest.approx(float(np.nanmax(axis.axis_error)))
+    assert axis.max_orientation_error < 1e-3 and axis.max_tracking_error < 1e-3
+    assert float(np.nanmax(axis.orientation_error)) > 0.3              # the turn of 0.5 rad is left out
+    assert pose.max_orientation_error < 1e-3
+    with pytest.raises(FollowError, match="mode 'joint' unknown"):
+        resolved_rate(fanuc, (poses, t), q0, mode="joint")
+
+
+def test_follower_beyond_reach_warns_nothing(scara):
+    # a line that leaves the SCARA's reach (675 mm) through its boundary singularity: windows are
+    # dropped as forced and the step is re-solved — without a numpy warning on the way
+    import warnings
+    q0 = np.array([0.0, 0.8, -0.15])
+    P, t = _scara_line(scara, q0, [0.3, 0.0, 0.0], N=151, duration=3.0)
+    windows = build_windows(scara, margin=0.05)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res = follow_path(scara, P, q0, windows, mode="position", dt=t[1])
+    assert not res.within_tolerance and res.speed_ratio <= 1 + 1e-9
+    # no configuration reaches past 675 mm: the error is at least the distance beyond it
+    beyond = np.linalg.norm(P[:, :2], axis=1).max() - 0.675
+    assert beyond > 0.05 and res.max_tracking_error >= beyond - 1e-9
+
+
 def test_window_ranges():
     w = np.array([-1, 0, 0, -1, 0, 2, 2, -1])
     out = window_ranges(w, ["a", "b", "c"])
@@ -125,150 +196,15 @@ def test_window_ranges():
                    {"window": 2, "name": "c", "ranges": [[5, 6]], "waypoints": 2}]
 
 
-# ---- the drawing task ------------------------------------------------------------------------------------
-@pytest.fixture(scope="module")
-def pen():
-    return pen_robot()
-
-
-@pytest.fixture(scope="module")
-def pen_windows(pen):
-    return build_windows(pen, margin=math.radians(5.0))
-
-
-@pytest.fixture(scope="module")
-def drawing(pen, pen_windows):
-    return run_drawing_study(pen, windows=pen_windows, modes=("pose", "position"), series=True)
-
-
-def test_drawing_path_geometry(pen):
-    poses, t, _ = drawing_path(pen, START_Q)
-    assert poses.shape == (5001, 4, 4) and t[-1] == pytest.approx(20.0) and t[1] == pytest.approx(0.004)
-    p = poses[:, :3, 3]
-    # docs/machines.md §6: the pen pose (-0.2173, -0.3878, 1.03611) m; x fixed; closed path
-    np.testing.assert_allclose(p[0], [-0.2173, -0.3878, 1.03611], atol=1e-5)
-    np.testing.assert_allclose(p[:, 0], p[0, 0], atol=1e-15)
-    np.testing.assert_allclose(p[-1], p[0], atol=1e-12)
-    R, y0, z0 = 0.05, p[0, 1], p[0, 2]
-    corners = p[[1000, 2000, 3000, 4000], 1:]
-    np.testing.assert_allclose(corners, [[y0 - R, z0 - R], [y0 - R, z0 - 2 * R], [y0 + R, z0 - 2 * R],
-                                         [y0 + R, z0 - R]], atol=1e-12)
-    # counter-clockwise seen from +x (y right, z up): the signed area is positive
-    yz = p[:, 1:]
-    area = 0.5 * np.sum(yz[:-1, 0] * yz[1:, 1] - yz[1:, 0] * yz[:-1, 1])
-    assert area == pytest.approx(math.pi * R * R / 2 + 2 * R * R, rel=1e-4)
-    # the orientation is held
-    np.testing.assert_allclose(poses[:, :3, :3], np.broadcast_to(poses[0, :3, :3], (5001, 3, 3)), atol=0)
-
-
-def test_start_pose_is_exactly_singular_and_loses_a_pen_tilt(drawing):
-    st = drawing["start"]
-    assert st["sigma_min"] < 1e-12
-    # the lost twist is a rotation about base y, not about the pen axis (−x)
-    np.testing.assert_allclose(st["lost_twist"], [0, 0, 0, 0, 1, 0], atol=1e-9)
-    np.testing.assert_allclose(st["pen_axis"], [-1, 0, 0], atol=1e-12)
-    assert st["lost_rotation_about_pen_axis"] < 1e-9
-
-
-def test_qp_completes_the_drawing_within_tolerance(pen, drawing):
-    tol_p, tol_o = drawing["tolerance"]["position_m"], drawing["tolerance"]["orientation_rad"]
-    assert (tol_p, tol_o) == (1e-3, pytest.approx(math.radians(1)))
-    d = drawing["qp"]["pose"]
-    assert d["within_tolerance"]
-    assert d["max_position_error_m"] <= tol_p and d["max_orientation_error_rad"] <= tol_o
-    # independent check of the run's errors on every 10th waypoint, with the numpy DH
-    poses, _, _ = drawing_path(pen, START_Q)
-    Q = drawing["series"]["qp_pose"]["q"]
-    pe, oe = _errors_numpy(pen.chain, Q[::10], poses[::10])
-    assert pe.max() <= tol_p and oe.max() <= tol_o
-    assert pe.max() == pytest.approx(drawing["series"]["qp_pose"]["position_error"][::10].max(), abs=1e-12)
-    # speed limits: default π rad/s
-    assert d["speed_ratio"] <= 1 + 1e-9
-
-
-def test_naive_homework_method_blows_up_qp_does_not(drawing):
-    nh, qp = drawing["naive_homework"], drawing["qp"]["pose"]
-    assert nh["pinv_steps"] >= 1 and nh["first_pinv_steps"][0] == 0       # J exactly singular at the start
-    assert nh["peak_joint_speed"] >= 1e3 * qp["peak_joint_speed"]        # measured ~1e19×
-    assert nh["max_position_error_m"] > 0.01 and not nh["within_tolerance"]
-    assert qp["peak_joint_speed"] < 0.2                                    # measured 0.057 rad/s
-
-
-def test_naive_method_with_the_correct_jacobian(drawing, pen):
-    # honest finding: with the right Jacobian the naive method survives this particular path
-    nv = drawing["naive"]
-    assert nv["first_pinv_steps"] == [0]             # solve raised at the exactly singular start
-    assert nv["singular_steps"] >= 1
-    assert nv["within_tolerance"] and nv["max_position_error_m"] < 1e-4
-    assert nv["peak_joint_speed"] == pytest.approx(drawing["qp"]["pose"]["peak_joint_speed"], rel=0.2)
-
-
-def test_homework_jacobian_uses_axes_z1_to_z6(pen):
-    # the correct Jacobian's column i uses z_{i-1}; the homework's uses z_i: its last column is
-    # [z6 × 0; z6] and its first column is the correct second column's axis
-    q = np.array([0.1, 0.2, 1.3, -1.1, 0.4, 0.3])
-    Jh = homework_jacobian(pen)(q)
-    J = pen.jacobian(q)
-    T = pen.fk(q)
-    np.testing.assert_allclose(Jh[:3, -1], 0, atol=1e-12)
-    np.testing.assert_allclose(Jh[3:, -1], T[:3, 2], atol=1e-12)
-    np.testing.assert_allclose(Jh[3:, :-1], J[3:, 1:], atol=1e-12)
-
-
-def test_windows_only_where_the_path_forces_them(drawing):
-    pose, pos = drawing["qp"]["pose"], drawing["qp"]["position"]
-    # pose mode: the whole drawing lies on the wrist singular set (θ5 = 0 forced), every step forced
-    assert [w["name"] for w in pose["windows_entered"]] == ["wrist: sin(q5)"]
-    assert pose["windows_entered"][0]["ranges"] == [[0, 5000]]
-    assert pose["forced_steps"] == 5000
-    assert pose["max_abs_q5_rad"] < 1e-6 and pose["max_abs_q1_rad"] < 1e-6
-    # position mode: not forced — out of the wrist window within the first 2 s, and never back
-    ranges = pos["windows_entered"]
-    assert len(ranges) == 1 and ranges[0]["ranges"][0][0] == 0 and len(ranges[0]["ranges"]) == 1
-    assert ranges[0]["ranges"][0][1] < 500
-    assert pos["forced_steps"] == 0
-    assert pos["max_position_error_m"] <= 1e-3
-    s = drawing["series"]["qp_position"]["in_window"]
-    assert np.all(s[ranges[0]["ranges"][0][1] + 1:] == -1)
-
-
-def test_resolved_rate_at_an_exactly_singular_start(pen):
-    poses, t, _ = drawing_path(pen, START_Q)
-    res = resolved_rate(pen, (poses[:11], t[:11]), np.array(START_Q))
+def test_resolved_rate_at_an_exactly_singular_start():
+    # the UR3-like pen arm at θ5 = 0 (docs/machines.md §6): J is exactly singular, solve raises, the
+    # pseudo-inverse takes that step; a small move in the y–z plane with the orientation held
+    pen = kin.load_robot("ur3_homework_pen")
+    q0 = np.array([0.0, 0.0, math.pi / 2, -math.pi / 2, 0.0, 0.0])
+    T0 = pen.fk(q0)
+    poses = np.tile(T0, (11, 1, 1))
+    poses[:, 1, 3] += np.linspace(0.0, 1e-3, 11)
+    poses[:, 2, 3] -= np.linspace(0.0, 5e-4, 11)
+    res = resolved_rate(pen, (poses, np.linspace(0.0, 0.04, 11)), q0)
     assert res.pinv_steps[0] == 0 and math.isinf(res.condition[0])
-    assert np.all(np.isfinite(res.q))
-
-
-def test_cli_drawing_json_and_plot(capsys, tmp_path, monkeypatch, drawing):
-    # the CLI glue end to end (arguments, JSON, plot file, exit codes) on the study computed above
-    import copy
-
-    import studies.drawing as sd
-    from studies.cli import main
-    calls = {}
-
-    def cached(robot, **kw):
-        calls.update(kw, robot=robot.name)
-        out = copy.deepcopy(drawing)
-        if not kw.get("series"):
-            out.pop("series")
-        return out
-
-    monkeypatch.setattr(sd, "run_drawing_study", cached)      # the command imports it when it runs
-    png = tmp_path / "drawing.png"
-    code = main(["drawing", "--json", "--plot", str(png)])
-    out, err = capsys.readouterr()
-    assert code == 0 and err == ""
-    d = json.loads(out)
-    assert calls["series"] is True and calls["robot"] == "ur3_homework_pen"
-    assert calls["window_margin"] == pytest.approx(math.radians(5))
-    assert d["qp"]["pose"]["within_tolerance"] and "series" not in d
-    assert d["start"]["condition"] is None                     # infinite → null in JSON
-    assert png.stat().st_size > 10_000 and png.read_bytes()[:4] == b"\x89PNG"
-    code = main(["drawing", "--margin", "2"])
-    out, err = capsys.readouterr()
-    assert code == 0 and "QP follower, pose mode" in out and "naive, homework J" in out
-    assert calls["window_margin"] == pytest.approx(math.radians(2))
-    code = main(["drawing", "--margin", "-3"])
-    _, err = capsys.readouterr()
-    assert code == 2 and "--margin" in err and "Traceback" not in err
+    assert np.all(np.isfinite(res.q)) and res.max_tracking_error < 1e-6

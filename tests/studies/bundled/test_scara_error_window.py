@@ -68,8 +68,11 @@ def test_windows_against_the_thesis_and_numpy_sigma_min(run):
     assert learned["status"] == "ok" and learned["width_joints"] == ["q2"]
     (lo, hi), = learned["intervals"]
     assert lo < 0 < hi and hi == pytest.approx(-lo) and hi == pytest.approx(w["learned"]) and w["learned"] > 0
-    assert learned["thesis"]["interval"] == [-0.01, 0.01]
-    assert learned["thesis"]["ours_over_thesis"] == pytest.approx(w["learned"] / 0.01)
+    # the thesis's published window beside ours (studies.published, not the core)
+    published = learned["published"]
+    assert published["interval"] == [-0.01, 0.01] and published["joint"] == "q2" and published["width"] == 0.01
+    assert "thesis" in published["source"] and published["ours_width"] == w["learned"]
+    assert published["ours_over_published"] == pytest.approx(w["learned"] / 0.01)
     # the learned width is the largest joint-2 error at the singular poses: at least their p95
     assert w["learned"] >= learned["singular_errors"]["p95"][1]
     lo_t, hi_t = w["learned_range_over_training"]

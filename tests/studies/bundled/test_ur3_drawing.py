@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from studies.drawing import pen_robot, wrist_branches
+from studies.study.drawing import pen_robot, wrist_branches
 from tests.studies.bundled.common import assert_report_holds, assert_report_renders, quick_run
 
 H = math.pi / 2

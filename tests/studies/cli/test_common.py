@@ -54,7 +54,8 @@ def test_negative_seed_in_every_command(capsys, argv):
     (["check-path", "scara_rrp", "p.csv", "--step", "1e308"], "--step 1e+308 is outside the allowed range [1e-06, 0.0873] rad"),
     (["check-path", "scara_rrp", "p.csv", "--step", "1e-300"], "--step 1e-300 is outside the allowed range"),
     (["check-path", "scara_rrp", "p.csv", "--step", "0.00005"], "[0.0001, 10] mm for the prismatic joints"),
-    (["drawing", "--margin", "1e308"], "--margin: 1e308 is outside the allowed range [0, 45] degrees"),
+    (["follow", "scara_rrp", "scara_line", "--tol-position", "inf"],
+     "--tol-position: inf is outside the allowed range > 0, finite (file length unit)"),
     (["workspace", "scara_rrp", "--samples", "0"], "--samples: 0 is outside"),
 ])
 def test_values_outside_their_range(capsys, tmp_path, monkeypatch, argv, match):

@@ -62,7 +62,7 @@ def test_interrupt_while_running_is_one_line(capsys, monkeypatch):
     assert err == "rmt: interrupted\n" and out == ""
 
 
-def test_drawing_modes_are_the_followers():
+def test_follow_modes_are_the_followers():
     from planning.follow import MODES as follower_modes
     assert tuple(MODES) == tuple(follower_modes)
 

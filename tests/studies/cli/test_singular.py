@@ -49,6 +49,23 @@ def test_windows_margin_json_and_file(capsys, tmp_path):
     assert saved["windows"][0]["name"] == d["windows"][0]["name"]
 
 
+def test_windows_learned_sets_the_published_window_beside_ours(capsys):
+    # the SCARA's learned window (seeded, so text and JSON give the same width) beside the thesis's ±0.01 rad
+    code, out, _ = run(capsys, "windows", "scara_rrp", "--learned", "--json")
+    assert code == 0
+    [rep] = json.loads(out)["learned"]
+    p = rep["published"]
+    assert p["joint"] == "q2" and p["interval"] == [-0.01, 0.01] and "thesis" in p["source"]
+    assert p["ours_width"] == rep["width"] and p["ours_over_published"] == pytest.approx(rep["width"] / 0.01)
+    (lo, hi), = rep["intervals"]
+    assert hi == pytest.approx(rep["width"]) and lo == pytest.approx(-rep["width"])
+    code, out, _ = run(capsys, "windows", "scara_rrp", "--learned")
+    assert code == 0
+    line = next(x for x in out.splitlines() if "published" in x)
+    assert "θ2 ∈ [−0.01, 0.01] rad" in line and f"q2 half-width {rep['width']:.4g} rad" in line
+    assert f"{rep['width'] / 0.01:.1f}× the published 0.01 rad" in line
+
+
 def test_windows_needs_a_width_source(capsys):
     code, out, err = run(capsys, "windows", "fanuc_m16ib20")
     assert code == 2 and "--margin" in err and out == ""

@@ -1,6 +1,9 @@
-"""The homework's drawing task (docs/machines.md §6): a UR3-like arm with a pen draws a closed "D" in the
-y–z plane, starting at a singular pose — the naive resolved-rate method against the OSQP path
-follower of :mod:`planning.follow`.
+"""The drawing task of the robotics homework (docs/machines.md §6), as the bundled study ``ur3_drawing``
+runs it: a UR3-like arm with a pen draws a closed "D" in the y–z plane, starting at a singular pose —
+the naive resolved-rate method, with the homework's Jacobian and with the correct one, against the
+OSQP path follower of :mod:`planning.follow`.  Any other tool path is followed the same way, without
+the task's closed forms, by ``rmt follow`` (:mod:`studies.study.follow`); the bundled tool path
+``ur3_drawing`` is this drawing.
 
 The task.  Pen on joint 6 (d6 = 0.1218 m), start q = (0, 0, 90°, −90°, 0, 0): θ5 = 0, a wrist
 singularity.  The pen tip draws counter-clockwise in the plane x = x_start (seen from +x: y to the
@@ -38,13 +41,9 @@ What the study finds (and reports as numbers):
 """
 from __future__ import annotations
 
-import ctypes
 import dataclasses
 import math
-import os
-import sys
 from collections.abc import Sequence
-from contextlib import contextmanager
 
 import numpy as np
 
@@ -205,38 +204,6 @@ def _start_analysis(robot: kin.Robot, q0: np.ndarray) -> dict:
             "lost_rotation_about_pen_axis": float(abs(u[3:] @ z_tool)),
             "lost_rotation_in_tool_frame": (T[:3, :3].T @ u[3:]).tolist(),
             "self_motion": (Vt[-1] * np.sign(Vt[-1][np.argmax(np.abs(Vt[-1]))])).tolist()}
-
-
-@contextmanager
-def solver_output_silenced():
-    """Route file descriptor 1 to /dev/null while solvers run: OSQP's C library prints its own errors
-    with printf, and they must never reach the command's standard output (its answer).  Nothing in
-    the computation prints on purpose (only ``studies`` prints, after it)."""
-    sys.stdout.flush()
-    try:
-        saved = os.dup(1)
-        devnull = os.open(os.devnull, os.O_WRONLY)
-    except OSError:
-        yield
-        return
-    try:
-        os.dup2(devnull, 1)
-        yield
-    finally:
-        try:
-            _libc_flush()
-        finally:
-            os.dup2(saved, 1)
-            os.close(saved)
-            os.close(devnull)
-
-
-def _libc_flush() -> None:
-    """Flush C's stdout buffer (what printf wrote but has not passed to the descriptor yet)."""
-    try:
-        ctypes.CDLL(None).fflush(None)
-    except (OSError, AttributeError):
-        pass
 
 
 def run_drawing_study(robot: kin.Robot | None = None, windows: WindowSet | None = None,
