@@ -213,7 +213,9 @@ class CompiledEvaluator:
         h = Header("the chain's numbers for kin/compiled/kernel.c")
         h.define("RMT_N", self.n).define("RMT_M", len(sym.task_rows)).define("RMT_NP", self.n_p)
         h.define("RMT_B", block).define("RMT_PRISMATIC_MAX", float(MAX_PRISMATIC))
-        h.array("RMT_ROWS", "int", list(sym.task_rows))
+        # a chain whose tool point never moves has no task rows: C has no empty arrays, and with
+        # RMT_M = 0 the kernel never reads this placeholder
+        h.array("RMT_ROWS", "int", list(sym.task_rows) or [0])
         h.array("RMT_REVOLUTE", "int", [int(j.is_revolute) for j in sym.chain.joints])
         return graph_table(sym.fkj_cs_function, "RMT_GRAPH", ["c", "s", "q", "p"], ["T", "J"], h).text()
 
