@@ -1,11 +1,11 @@
-# rmtkit — `make run` (the main job), `make test`, `make bench`.  Each creates .venv when missing
+# rmtkit — `make run` (the main job), `make test` (and `make test-slow`), `make lint`, `make bench`.  Each creates .venv when missing
 # and installs the project into it, so a fresh machine needs only Python 3.11 and the package index.
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed-$(shell cat pyproject.toml | cksum | cut -d' ' -f1)
 
-.PHONY: run test bench install clean
+.PHONY: run test test-slow lint bench install clean
 
 $(STAMP): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -17,9 +17,17 @@ install: $(STAMP)
 run: $(STAMP)
 	$(BIN)/rmt study
 
-# pytest's exit code is kept in .venv/.pytest-exit for .ci/run (make itself exits 2 on failure)
+# pytest's exit code is kept in .venv/.pytest-exit for .ci/run (make itself exits 2 on failure).
+# `make test` runs everything but the end-to-end tests marked slow (bundled studies, browsers,
+# sweeps with worker processes, long CLI examples); `make test-slow` runs those; CI runs both.
 test: $(STAMP)
-	@$(BIN)/python -m pytest -q; rc=$$?; echo $$rc > $(VENV)/.pytest-exit; exit $$rc
+	@$(BIN)/python -m pytest -q -m "not slow"; rc=$$?; echo $$rc > $(VENV)/.pytest-exit; exit $$rc
+
+test-slow: $(STAMP)
+	@$(BIN)/python -m pytest -q -m slow; rc=$$?; echo $$rc > $(VENV)/.pytest-exit; exit $$rc
+
+lint: $(STAMP)
+	$(BIN)/ruff check .
 
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e ".[bench]"
