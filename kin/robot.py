@@ -13,8 +13,7 @@ from typing import Mapping, NamedTuple
 import numpy as np
 
 from kin.chain import Chain
-from kin.compiled import (MEASURE_NAMES, WANT_J, WANT_MANIP, WANT_SIGMA, WANT_T, CompiledEvaluator, check_out,
-                          make_evaluator)
+from kin.compiled import MEASURE_NAMES, WANT_J, WANT_MANIP, WANT_SIGMA, WANT_T, check_out, make_evaluator
 from kin.errors import ConfigurationError, OutBufferError, ParameterError
 from kin.robotfile import load_chain
 from kin.symbolic import SymbolicChain
@@ -136,7 +135,7 @@ class Robot:
             p = self.evaluator.p_nominal
             return f.measures(q, p, want) if name == "measures" else getattr(f, name)(q, p)
         ev = self.evaluator
-        if type(ev) is not CompiledEvaluator or type(q) is not np.ndarray or q.shape != (self.n,) \
+        if not ev.single_call or type(q) is not np.ndarray or q.shape != (self.n,) \
                 or q.dtype.kind not in "fiu":
             return None
         with ev.lock:

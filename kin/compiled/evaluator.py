@@ -25,6 +25,7 @@ import sys
 import threading
 import warnings
 from pathlib import Path
+from typing import Protocol, runtime_checkable
 
 import casadi as ca
 import numpy as np
@@ -77,10 +78,26 @@ def output_arrays(N: int, n: int, want: int, out: dict | None) -> dict[str, np.n
     return res
 
 
+@runtime_checkable
+class Evaluator(Protocol):
+    """What :class:`kin.Robot` needs of an evaluator: ``backend`` (``"compiled"`` or ``"vm"``), ``n``
+    joints, ``p_nominal`` design parameters, ``evaluate(Q, P, want, out)`` for a batch (N, n) →
+    the arrays ``want`` asks for, and ``single_call``: whether it also evaluates one configuration
+    into its own buffers (``one(q, want)`` filling ``T1``, ``J1``, ``m1`` under ``lock``)."""
+
+    backend: str
+    n: int
+    single_call: bool
+
+    def evaluate(self, Q: np.ndarray, P: np.ndarray, want: int = WANT_ALL, out: dict | None = None
+                 ) -> dict[str, np.ndarray]: ...
+
+
 class VMEvaluator:
     """Evaluates in CasADi's virtual machine (no compiler needed); measures computed with numpy."""
 
     backend = "vm"
+    single_call = False
 
     def __init__(self, sym: SymbolicChain):
         self.sym = sym
@@ -157,6 +174,7 @@ class CompiledEvaluator:
     """
 
     backend = "compiled"
+    single_call = True
 
     def __init__(self, sym: SymbolicChain, compiler: str, directory: Path | None = None, arch: str | None = None,
                  block: int = 16):
@@ -274,7 +292,7 @@ def _load_extension(path: Path, name: str):
     return _EXTENSIONS[key]
 
 
-def make_evaluator(sym: SymbolicChain, backend: str = "auto") -> CompiledEvaluator | VMEvaluator:
+def make_evaluator(sym: SymbolicChain, backend: str = "auto") -> Evaluator:
     """A compiled evaluator when a C compiler works, else the CasADi-VM one.
 
     ``backend``: ``"auto"`` (compiled, falling back to the VM with a warning), ``"compiled"`` (raise

@@ -437,3 +437,14 @@ def test_sincos_at_quadrant_boundaries():
     T = r.fk(Q)
     np.testing.assert_allclose(T[:, 0, 0], np.cos(angles), atol=2e-16)
     np.testing.assert_allclose(T[:, 1, 0], np.sin(angles), atol=2e-16)
+
+
+def test_both_evaluators_are_evaluators_and_only_the_compiled_one_does_single_calls():
+    from kin.compiled import CompiledEvaluator, Evaluator, VMEvaluator
+    vm = kin.load_robot("fanuc_m16ib20", backend="vm").evaluator
+    assert isinstance(vm, VMEvaluator) and isinstance(vm, Evaluator) and not vm.single_call
+    robot = kin.load_robot("fanuc_m16ib20")
+    if isinstance(robot.evaluator, CompiledEvaluator):
+        assert isinstance(robot.evaluator, Evaluator) and robot.evaluator.single_call
+    q = np.array([0.1, -0.2, 0.3, 0.4, 0.5, 0.6])
+    np.testing.assert_allclose(robot.fk(q), kin.load_robot("fanuc_m16ib20", backend="vm").fk(q), atol=1e-12)
