@@ -13,12 +13,19 @@ from typing import Mapping, NamedTuple
 import numpy as np
 
 from kin.chain import Chain
-from kin.compiled import (MEASURE_NAMES, WANT_J, WANT_MANIP, WANT_SIGMA, WANT_T, CompiledEvaluator, check_out,
-                          make_evaluator)
+from kin.compiled import (
+    MEASURE_NAMES,
+    WANT_J,
+    WANT_MANIP,
+    WANT_SIGMA,
+    WANT_T,
+    CompiledEvaluator,
+    check_out,
+    make_evaluator,
+)
 from kin.errors import ConfigurationError, OutBufferError, ParameterError
 from kin.robotfile import load_chain
 from kin.symbolic import SymbolicChain
-
 
 MAX_RANDOM = 100_000_000  # random_configurations: at most this many rows (0.8·n GB)
 

@@ -14,8 +14,20 @@ from typing import Any
 
 import numpy as np
 
-from kin.chain import (ANGLE_UNITS, CONVENTIONS, DH_FIELDS, JOINT_TYPES, LENGTH_FIELDS,
-                    LENGTH_UNITS, NAME_RE, TASK_ROWS, Chain, Joint, Parameter, Placement)
+from kin.chain import (
+    ANGLE_UNITS,
+    CONVENTIONS,
+    DH_FIELDS,
+    JOINT_TYPES,
+    LENGTH_FIELDS,
+    LENGTH_UNITS,
+    NAME_RE,
+    TASK_ROWS,
+    Chain,
+    Joint,
+    Parameter,
+    Placement,
+)
 from kin.errors import ChainError, RobotFileError, UnknownRobotError
 from kin.output import write_output
 from kin.transforms import rigidity_defect

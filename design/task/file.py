@@ -11,13 +11,12 @@ from typing import Any
 import numpy as np
 
 import kin
+from design.task.model import OBJECTIVES, Dexterity, Targets, Task, TaskError
+from design.task.targets import box_points, read_points_csv, ring_points, shell_points
 from kin import robotfile
 from kin.chain import ANGLE_UNITS, LENGTH_UNITS
 from kin.robotfile import _tname
 from kin.transforms import rpy_to_matrix
-
-from design.task.model import OBJECTIVES, Dexterity, Targets, Task, TaskError
-from design.task.targets import box_points, read_points_csv, ring_points, shell_points
 
 __all__ = ["load_task", "loads_task", "SHAPES"]
 

@@ -37,8 +37,7 @@ from pathlib import Path
 
 from kin.errors import CompileError
 from kin.native.lock import file_lock
-from kin.native.settings import (ARCH_FLAGS, cache_dir, compiler_identity, cpu_fingerprint, find_compiler,
-                                 requested_arch)
+from kin.native.settings import ARCH_FLAGS, cache_dir, compiler_identity, cpu_fingerprint, find_compiler, requested_arch
 
 #: the shared headers (rmt_common.h, rmt_parallel.h, rmt_graph.h)
 INCLUDE_DIR = Path(__file__).resolve().with_name("include")

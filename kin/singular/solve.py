@@ -10,7 +10,6 @@ import sympy as sp
 from scipy.optimize import brentq, minimize_scalar
 
 
-
 def display_form(expr: sp.Expr) -> sp.Expr:
     """The expression as shown: trig combined when it shortens it (sympy's trigsimp: slow, so the
     budgeted worker does it)."""

@@ -8,7 +8,6 @@ import math
 import numpy as np
 
 from kin.ik.analytic import NoClosedFormError, analytic_ik
-
 from planning.certify import FreeCells
 from planning.errors import PlanningError
 from planning.ompl.validity import JointSpaceChecker

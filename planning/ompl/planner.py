@@ -28,10 +28,11 @@ from typing import Sequence
 import numpy as np
 
 from kin.errors import ConfigurationError
-
 from planning.certify import PathProof, Separation, free_cells
 from planning.errors import PlanningError
 from planning.ompl.bindings import ob, og, quiet_rng_seed
+from planning.ompl.goals import goal_from_pose
+from planning.ompl.validity import JointSpaceChecker, KeepOutBox
 from planning.validate import (
     DEFAULT_STEP_ANGLE,
     DEFAULT_STEP_LENGTH,
@@ -39,8 +40,6 @@ from planning.validate import (
     check_path,
     densify,
 )
-from planning.ompl.goals import goal_from_pose
-from planning.ompl.validity import JointSpaceChecker, KeepOutBox
 
 PLANNERS = {
     "rrtconnect": "RRTConnect", "rrt": "RRT", "rrtstar": "RRTstar", "informedrrtstar": "InformedRRTstar",

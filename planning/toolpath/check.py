@@ -36,9 +36,8 @@ import numpy as np
 
 from kin.errors import ConfigurationError, RmtError
 from kin.transforms import rotation_error
-
-from planning.toolpath.model import ToolPath, ToolPathError
 from planning.toolpath.ik import continuous_ik
+from planning.toolpath.model import ToolPath, ToolPathError
 from planning.toolpath.report import KINDS, Problem, ToolPathReport
 from planning.windows import WindowSet
 

@@ -23,7 +23,6 @@ from pathlib import Path
 import numpy as np
 
 from kin.chain import ANGLE_UNITS, LENGTH_UNITS
-
 from planning.toolpath.geometry import (
     QUAT_NORM_TOL,
     assemble_poses,

@@ -16,12 +16,11 @@ Figures (all wall times on this machine; provisional when it is loaded):
 """
 from __future__ import annotations
 
-import os
 import argparse
+import os
 import sys
 import time
 from pathlib import Path
-
 
 from design.architecture import optimise_architectures
 from design.coverage import coverage

@@ -7,7 +7,6 @@ from pathlib import Path
 
 import kin
 from kin.output import write_output
-
 from studies.cli.common import EXIT_FAIL, EXIT_OK, MAX_SIGMA, CliInputError, bounded, seed
 from studies.jsonio import dump, jsonable
 

@@ -17,7 +17,6 @@ import sys
 from typing import Sequence
 
 import kin
-
 from studies.cli import design, follow, kinematics, plan, singular, study, sweep, toolpath, urdf
 from studies.cli.common import EXIT_OK, EXIT_USAGE
 

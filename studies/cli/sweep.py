@@ -51,6 +51,7 @@ class _Bar:
     def start(self, total: int, already: int) -> None:
         if self.show:
             import shutil
+
             from tqdm import tqdm
             self.bar = tqdm(total=total, unit="design", file=sys.stderr, ncols=shutil.get_terminal_size().columns,
                             desc="sweep" + (f" ({already} done before)" if already else ""))

@@ -20,7 +20,6 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from planning.toolpath.check import KINDS, ToolPathReport
-
 from studies.plots.figure import save_figure
 
 __all__ = ["plot_toolpath_report"]

@@ -13,7 +13,6 @@ from scipy.spatial.transform import Rotation
 import kin
 from kin.errors import RobotFileError
 from kin.robotfile import dumps_robot, load_chain, loads_robot, save_robot
-
 from tests.dh_numpy import fk_numpy
 
 DEG = math.pi / 180
@@ -449,8 +448,8 @@ def test_round_trip_strings_with_control_characters():
 @pytest.mark.parametrize("seed", range(8))
 def test_programmatic_chain_round_trip(seed):
     """A chain built in SI with display units mm/deg saves and loads back to the same FK."""
-    from tests.chain_factory import random_chain
     from kin.robotfile import with_units
+    from tests.chain_factory import random_chain
     c = with_units(random_chain(seed, params=True, name="prog"), "mm", "deg")
     c2 = loads_robot(dumps_robot(c))
     assert c2.length_unit == "mm" and c2.angle_unit == "deg"

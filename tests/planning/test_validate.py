@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 
 import kin
-from tests.dh_numpy import jacobian_numpy
 from kin.errors import ConfigurationError
 from planning.validate import DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, check_path, densify
 from planning.windows import build_windows
+from tests.dh_numpy import jacobian_numpy
 
 MARGIN = 0.05
 ELBOW_ROOT = math.atan2(0.74, 0.1)      # FANUC: 0.1 sin q3 − 0.74 cos q3 = 0

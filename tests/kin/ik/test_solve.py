@@ -14,7 +14,6 @@ import pytest
 import kin
 from kin.ik import local_ik, solve_ik
 from kin.ik.compiled import compiled_ik
-
 from tests.chain_factory import random_q
 from tests.dh_numpy import fk_numpy
 from tests.kin.ik import test_numeric

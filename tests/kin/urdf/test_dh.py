@@ -10,7 +10,6 @@ import pytest
 
 import kin
 from kin.urdf import import_urdf
-
 from tests.chain_factory import fd_jacobian
 from tests.dh_numpy import fk_numpy
 from tests.kin.urdf.reference import YourdfpyFk

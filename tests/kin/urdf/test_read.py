@@ -7,7 +7,6 @@ import pytest
 
 from kin.errors import RmtError
 from kin.urdf import UrdfError, read_serial_chain
-
 from tests.kin.urdf.reference import YourdfpyFk
 from tests.kin.urdf.synthetic import joint, serial, urdf_text, write_urdf
 

@@ -9,7 +9,6 @@ import math
 
 import numpy as np
 import pytest
-from tests.dh_numpy import fk_numpy
 
 import kin
 from planning.toolpath import load_toolpath
@@ -23,6 +22,7 @@ from studies.study.follow import (
     start_configuration,
 )
 from studies.toolpaths import toolpath_file
+from tests.dh_numpy import fk_numpy
 
 
 @pytest.fixture(scope="module")

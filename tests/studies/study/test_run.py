@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 
-
 from studies.cli import main
 
 # scara_rrp: the boundary window around q2 = 0 splits the joint space; start q2 > 0, goal q2 < 0
