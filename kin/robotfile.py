@@ -338,7 +338,8 @@ def dumps_robot(chain: Chain) -> str:
             out.append(f"rpy = {_vec(pl.rpy, as_)}")
     for pname, p in chain.parameters.items():
         s = ls if p.kind == "length" else as_
-        out += ["", f"[parameters.{_key(pname)}]", f"value = {_fmt(_to_file(p.value, s))}", f"bounds = {_vec(p.bounds, s)}"]
+        out += ["", f"[parameters.{_key(pname)}]", f"value = {_fmt(_to_file(p.value, s))}",
+                f"bounds = {_vec(p.bounds, s)}"]
     return "\n".join(out) + "\n"
 
 

@@ -135,7 +135,8 @@ def _commands() -> dict[str, set[str]]:
 
 def _cli_sections() -> dict[str, str]:
     text = (ROOT / "docs" / "cli.md").read_text()
-    return {m.group(1): m.group(2) for m in re.finditer(r"^### `rmt ([a-z-]+)`\n(.*?)(?=^#)", text + "\n#", re.M | re.S)}
+    return {m.group(1): m.group(2)
+            for m in re.finditer(r"^### `rmt ([a-z-]+)`\n(.*?)(?=^#)", text + "\n#", re.M | re.S)}
 
 
 def test_cli_page_describes_every_command():

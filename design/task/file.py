@@ -139,7 +139,8 @@ def _targets(r: _Reader, raw: Any, ls: float, as_: float, base: Path, robot) -> 
             z = np.array(r.vector(raw.get("z", [0, 0]), f("z"), 2)) * ls
             th = np.array(r.vector(raw.get("theta", [0, 360 if as_ != 1.0 else 2 * math.pi]), f("theta"), 2)) * as_
             if z[1] < z[0] or th[1] <= th[0] or th[1] - th[0] > 2 * math.pi + 1e-9:
-                raise r.fail(f("z") if z[1] < z[0] else f("theta"), "must be [low, high] with low ≤ high (theta: a span ≤ 360°)")
+                raise r.fail(f("z") if z[1] < z[0] else f("theta"),
+                             "must be [low, high] with low ≤ high (theta: a span ≤ 360°)")
             P = ring_points(c, ri, ro, r.counts(raw["count"], f("count"), 3), z, th)
     elif shape == "points":
         P, axes = read_points_csv(r.file(raw["file"], f("file"), base), ls)

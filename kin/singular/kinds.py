@@ -77,9 +77,11 @@ def classify(robot, factor_joints: tuple[int, ...], block: str, samples: np.ndar
     kind = max(votes, key=lambda k: votes[k])
     meaning = {
         "wrist": f"two wrist axes become parallel: the wrist loses one rotation ({names} singular)",
-        "elbow": f"arm stretched or folded ({names}): the {point} is at the boundary of its reach and cannot move along the arm",
+        "elbow": f"arm stretched or folded ({names}): the {point} is at the boundary of its reach "
+                 "and cannot move along the arm",
         "boundary": f"arm stretched or folded ({names}): the {point} is on the workspace boundary",
-        "shoulder": f"the {point} lies on the axis of joint 1 (or on its offset surface): joint 1 cannot move it sideways",
+        "shoulder": f"the {point} lies on the axis of joint 1 (or on its offset surface): "
+                    "joint 1 cannot move it sideways",
         "other": f"joints {names} lose a direction of motion together",
     }[kind]
     return kind, meaning

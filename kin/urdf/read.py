@@ -33,7 +33,8 @@ class UrdfJoint:
 
     name: str
     type: Literal["revolute", "prismatic"]   # a continuous joint is revolute, with ``continuous`` set
-    origin: np.ndarray                       # (4, 4): previous joint's moving frame (or the base link) → this joint's frame
+    origin: np.ndarray                       # (4, 4): previous joint's moving frame (or the base link)
+                                             # → this joint's frame
     axis: np.ndarray                         # (3,) unit, in this joint's frame
     limits: tuple[float, float]
     max_velocity: float | None = None        # rad/s or m/s

@@ -179,8 +179,9 @@ def validate_toolpath(robot, toolpath: ToolPath, windows: WindowSet | None = Non
     problem = None
     if first is not None:
         i, k = first
-        detail = _detail(k, i, int(prev[i]), robot, Q, position_error, orientation_error, limit_margin, margins, sig, sigma_min,
-                         win, windows, qd, vmax, step, bound, tol_position, tol_orientation, limit_clearance, pose)
+        detail = _detail(k, i, int(prev[i]), robot, Q, position_error, orientation_error, limit_margin, margins, sig,
+                         sigma_min, win, windows, qd, vmax, step, bound, tol_position, tol_orientation,
+                         limit_clearance, pose)
         problem = Problem(i, k, detail, float(s[i]), None if toolpath.t is None else float(toolpath.t[i]),
                           toolpath.origin(i))
     thresholds = {"tol_position": tol_position, "tol_orientation": tol_orientation, "sigma_min": sigma_min,

@@ -218,7 +218,8 @@ def add_commands(add) -> None:
     goal.add_argument("--goal-pose", nargs=6, metavar=("X", "Y", "Z", "R", "P", "Y"),
                       help="goal tool pose, file units (fixed-axis roll-pitch-yaw): the IK branch on the start's "
                            "side of every window, nearest first")
-    sp.add_argument("--keep-out", metavar="FILE.toml", help="keep-out boxes of the work cell (TOML, see docs/cli.md, 'Keep-out files')")
+    sp.add_argument("--keep-out", metavar="FILE.toml",
+                    help="keep-out boxes of the work cell (TOML, see docs/cli.md, 'Keep-out files')")
     sp.add_argument("--keep-out-box", nargs=6, action="append", metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"),
                     help="a keep-out box for the tool point, base frame, file length unit (repeatable)")
     _window_args(sp, "seed of the planner (default 0; the windows do not depend on it)")

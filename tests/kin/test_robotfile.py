@@ -404,11 +404,13 @@ def random_robot_text(seed: int, length_unit: str, angle_unit: str, placement: s
             T = np.eye(4)
             T[:3, :3] = Rotation.from_rotvec(rng.uniform(-2, 2, 3)).as_matrix()
             T[:3, 3] = rng.uniform(-L, L, 3)
-            lines.append("matrix = [" + ", ".join("[" + ", ".join(repr(float(x)) for x in row) + "]" for row in T) + "]")
+            lines.append("matrix = ["
+                         + ", ".join("[" + ", ".join(repr(float(x)) for x in row) + "]" for row in T) + "]")
     for pname, f in params:
         s = L if f in "ad" else A
         v = rng.uniform(-s, s)
-        lines += ["", f"[parameters.{pname}]", f"value = {v!r}", f"bounds = [{v - rng.uniform(0, s)!r}, {v + rng.uniform(0, s)!r}]"]
+        lines += ["", f"[parameters.{pname}]", f"value = {v!r}",
+                  f"bounds = [{v - rng.uniform(0, s)!r}, {v + rng.uniform(0, s)!r}]"]
     return "\n".join(lines) + "\n"
 
 

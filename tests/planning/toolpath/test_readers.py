@@ -32,7 +32,8 @@ HEAD = 'feed = 10.0\n[start]\nxyz = [0.0, 0.0, 0.0]\n'
 
 
 @pytest.mark.parametrize("body,field,words", [
-    ('[[segments]]\ntype = "line"\nto = [100.0, 0.0, 0.0]\nstep = 1e-300\n', "segments[0]", "more than 5000000 waypoints"),
+    ('[[segments]]\ntype = "line"\nto = [100.0, 0.0, 0.0]\nstep = 1e-300\n', "segments[0]",
+     "more than 5000000 waypoints"),
     ('[[segments]]\ntype = "line"\nto = [1e308, 0.0, 0.0]\npoints = 2\n', "segments[0].to", "within ±1e+07"),
     ('[[segments]]\ntype = "line"\nto = [100.0, 0.0, 0.0]\npoints = 2\nfeed = 1e-300\n', "segments[0].feed",
      "outside the allowed range"),
