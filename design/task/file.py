@@ -120,7 +120,7 @@ def _targets(r: _Reader, raw: Any, ls: float, as_: float, base: Path, robot) -> 
     for key in _TARGET[shape]:
         if key not in raw and key not in ("z", "theta"):
             raise r.fail(f"target.{key}", f"missing (required for shape {shape!r})")
-    f = lambda k: f"target.{k}"  # noqa: E731
+    f = lambda k: f"target.{k}"
     axes = rotations = None
     if shape == "box":
         lo, hi = np.array(r.vector(raw["min"], f("min"), 3)), np.array(r.vector(raw["max"], f("max"), 3))

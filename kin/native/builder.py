@@ -98,12 +98,12 @@ def build(kernel: str, source: Path, header: str = "", *, flags: Sequence[str] =
     if arch != "portable":
         try:
             return _build_one(*args, arch, compiler, directory, what)
-        except _CompilerFailed:
+        except _CompilerFailedError:
             pass  # e.g. a compiler that does not know -march=native: the portable build below
     return _build_one(*args, "portable", compiler, directory, what)
 
 
-class _CompilerFailed(CompileError):
+class _CompilerFailedError(CompileError):
     """The compiler ran and refused (the only failure the portable build is tried after)."""
 
 
@@ -169,7 +169,7 @@ def _run(cmd: list[str], compiler: str, arch: str, what: str) -> None:
     except OSError as e:
         raise CompileError(f"cannot run the C compiler {compiler}: {e.strerror or e}") from None
     if proc.returncode != 0:
-        raise _CompilerFailed(f"{name} ({arch} build) failed on {what}: "
+        raise _CompilerFailedError(f"{name} ({arch} build) failed on {what}: "
                               f"{first_error(proc.stderr) or f'exit status {proc.returncode}'}")
 
 

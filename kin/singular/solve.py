@@ -19,7 +19,7 @@ def display_form(expr: sp.Expr) -> sp.Expr:
             t = sp.trigsimp(e)
             if sp.count_ops(t) <= sp.count_ops(e):
                 e = t
-        except Exception:  # noqa: BLE001 - trigsimp is cosmetic
+        except Exception:  # trigsimp is cosmetic
             pass
     return e
 

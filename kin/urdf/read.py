@@ -101,7 +101,7 @@ def load_urdf_model(path: str | Path):
         with np.errstate(all="ignore"):
             model = yourdfpy.URDF.load(path, build_scene_graph=False, build_collision_scene_graph=False,
                                        load_meshes=False, load_collision_meshes=False)
-    except Exception as e:  # noqa: BLE001 -- lxml, yourdfpy and attribute errors alike: not a URDF
+    except Exception as e:  # lxml, yourdfpy and attribute errors alike: not a URDF
         raise UrdfError(f"not a readable URDF ({type(e).__name__}: {str(e).strip() or 'malformed XML'})",
                         path, "robot") from None
     finally:

@@ -117,7 +117,7 @@ class _MotionValidator(ob.MotionValidator):
         self.checker = checker
         self.n = checker.n
 
-    def checkMotion(self, s1, s2):  # noqa: N802 - OMPL's name
+    def checkMotion(self, s1, s2):  # OMPL's name
         n = self.n
         a = [s1[i] for i in range(n)]
         b = [s2[i] for i in range(n)]
@@ -178,7 +178,7 @@ class _SingularityCost(ob.StateCostIntegralObjective):
         self.checker = checker
         self.scale = scale
 
-    def stateCost(self, s):  # noqa: N802 - OMPL's name
+    def stateCost(self, s):  # OMPL's name
         q = [s[i] for i in range(self.checker.n)]
         return ob.Cost(self.scale / max(self.checker.sigma(q), 1e-9))
 

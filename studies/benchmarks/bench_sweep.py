@@ -127,7 +127,7 @@ def run(quick: bool, log=None) -> dict:
         for name, make in configs:
             if name.startswith("dask"):
                 try:
-                    import distributed  # noqa: F401
+                    import distributed  # noqa: F401 - only probes that dask is installed
                 except ImportError:
                     out["runs"][name] = {"skipped": "dask[distributed] not installed"}
                     continue

@@ -124,7 +124,7 @@ def run(quick: bool = False) -> dict:
     bp = blend_path(W, BLEND)
     load0 = os.getloadavg()[0]
     try:
-        import toppra  # noqa: F401
+        import toppra  # noqa: F401 - only probes that TOPP-RA is installed
         have_toppra = True
     except ImportError:
         have_toppra = False

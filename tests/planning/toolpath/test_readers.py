@@ -11,7 +11,7 @@ from planning.toolpath import ToolPathError, parse_toolpath_csv, parse_toolpath_
 
 
 class _Units:            # a robot stand-in: only the units are read
-    class chain:
+    class chain:  # noqa: N801 - stands in for Robot.chain, the attribute the readers read
         length_unit, angle_unit = "mm", "deg"
 
 

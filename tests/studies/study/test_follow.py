@@ -39,8 +39,8 @@ def scara_run(scara):
 
 
 def test_modes_are_the_followers():
-    from planning.follow import MODES as follower_modes
-    assert tuple(MODES) == tuple(follower_modes)
+    from planning.follow import MODES as FOLLOWER_MODES
+    assert tuple(MODES) == tuple(FOLLOWER_MODES)
 
 
 def test_the_task_a_path_asks(scara):
