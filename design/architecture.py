@@ -15,7 +15,6 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Callable
 
-
 import kin
 from design.optimise import DesignResult, VerifySettings, optimise
 from design.task.model import Task, TaskError

@@ -364,6 +364,7 @@ def compute_workspace(robot: kin.Robot | str, n_samples: int = 100_000,
         positions=P, measure_name=measure, measure=M, threshold=float(threshold), threshold_rule=rule,
         near_singular=near, n_near_singular=int(near.sum()), voxel=float(voxel), voxel_rule=vrule,
         dimension=dim, degenerate_axes=tuple("xyz"[i] for i in range(3) if i not in axes),
-        occupied=int(occ), functional_occupied=int(focc), occupied_half=int(occ_half), volume=float(volume), functional_volume=float(fvolume),
+        occupied=int(occ), functional_occupied=int(focc), occupied_half=int(occ_half), volume=float(volume),
+        functional_volume=float(fvolume),
         area=None if area is None else float(area), functional_area=None if farea is None else float(farea),
         bbox_min=lo, bbox_max=hi, reach=reach, radial_reach=radial, elapsed=time.perf_counter() - t0)

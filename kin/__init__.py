@@ -11,8 +11,19 @@ changes no environment variable; the compiled kernels' threads are POSIX threads
 (:mod:`kin.native`), with no OpenMP runtime to configure.
 """
 from kin.chain import Chain, Joint, Parameter, Placement
-from kin.errors import (ArgumentError, ChainError, CompileError, ConfigurationError, JointLimitError, OutBufferError,
-                        ParameterError, RmtError, RobotFileError, SettingError, UnknownRobotError)
+from kin.errors import (
+    ArgumentError,
+    ChainError,
+    CompileError,
+    ConfigurationError,
+    JointLimitError,
+    OutBufferError,
+    ParameterError,
+    RmtError,
+    RobotFileError,
+    SettingError,
+    UnknownRobotError,
+)
 from kin.robotfile import bundled_robots, dumps_robot, load_chain, loads_robot, save_robot
 
 _LAZY = {"Robot", "Measures", "load_robot"}

@@ -18,7 +18,6 @@ from kin.errors import ConfigurationError, OutBufferError, ParameterError
 from kin.robotfile import load_chain
 from kin.symbolic import SymbolicChain
 
-
 MAX_RANDOM = 100_000_000  # random_configurations: at most this many rows (0.8·n GB)
 
 

@@ -14,8 +14,20 @@ from typing import Any
 
 import numpy as np
 
-from kin.chain import (ANGLE_UNITS, CONVENTIONS, DH_FIELDS, JOINT_TYPES, LENGTH_FIELDS,
-                    LENGTH_UNITS, NAME_RE, TASK_ROWS, Chain, Joint, Parameter, Placement)
+from kin.chain import (
+    ANGLE_UNITS,
+    CONVENTIONS,
+    DH_FIELDS,
+    JOINT_TYPES,
+    LENGTH_FIELDS,
+    LENGTH_UNITS,
+    NAME_RE,
+    TASK_ROWS,
+    Chain,
+    Joint,
+    Parameter,
+    Placement,
+)
 from kin.errors import ChainError, RobotFileError, UnknownRobotError
 from kin.output import write_output
 from kin.transforms import rigidity_defect
@@ -326,7 +338,8 @@ def dumps_robot(chain: Chain) -> str:
             out.append(f"rpy = {_vec(pl.rpy, as_)}")
     for pname, p in chain.parameters.items():
         s = ls if p.kind == "length" else as_
-        out += ["", f"[parameters.{_key(pname)}]", f"value = {_fmt(_to_file(p.value, s))}", f"bounds = {_vec(p.bounds, s)}"]
+        out += ["", f"[parameters.{_key(pname)}]", f"value = {_fmt(_to_file(p.value, s))}",
+                f"bounds = {_vec(p.bounds, s)}"]
     return "\n".join(out) + "\n"
 
 

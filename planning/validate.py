@@ -29,7 +29,6 @@ from dataclasses import asdict, dataclass, field, fields
 import numpy as np
 
 from kin.errors import ConfigurationError
-
 from planning.certify import PathProof, certify_path, certify_sigma
 from planning.windows import WindowSet
 

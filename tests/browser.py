@@ -92,7 +92,7 @@ def ensure_chromium(install_timeout: float = 600.0) -> str:
     if _skip_reason:
         _skip(_skip_reason)
     try:
-        import playwright.sync_api  # noqa: F401
+        import playwright.sync_api  # noqa: F401 - only probes that playwright is installed
     except ImportError:
         _skip_reason = "the `playwright` Python package is missing: pip install 'rmtkit[test]' (or playwright)"
         _skip(_skip_reason)
@@ -300,7 +300,7 @@ class ReportBrowser:
     def _check(self, check: PageCheck, timeout, graph_timeout, screenshot, viewport):
         from playwright.sync_api import TimeoutError as PwTimeout
         deadline = time.monotonic() + timeout
-        left_ms = lambda: max(1000.0, (deadline - time.monotonic()) * 1000)  # noqa: E731
+        left_ms = lambda: max(1000.0, (deadline - time.monotonic()) * 1000)
         context = self._launch().new_context(viewport={"width": viewport[0], "height": viewport[1]})
         try:
             context.set_default_timeout(timeout * 1000)

@@ -39,7 +39,7 @@ def inline_code(text: str) -> list[str]:
 # ---- the site builds ------------------------------------------------------------------------------
 def test_mkdocs_builds_without_a_warning(tmp_path):
     try:
-        import mkdocs  # noqa: F401
+        import mkdocs  # noqa: F401 - only probes that mkdocs is installed
     except ImportError:
         pytest.fail("mkdocs is not installed: pip install -e '.[test]' (make test does)")
     run = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(tmp_path / "site")],
@@ -135,7 +135,8 @@ def _commands() -> dict[str, set[str]]:
 
 def _cli_sections() -> dict[str, str]:
     text = (ROOT / "docs" / "cli.md").read_text()
-    return {m.group(1): m.group(2) for m in re.finditer(r"^### `rmt ([a-z-]+)`\n(.*?)(?=^#)", text + "\n#", re.M | re.S)}
+    return {m.group(1): m.group(2)
+            for m in re.finditer(r"^### `rmt ([a-z-]+)`\n(.*?)(?=^#)", text + "\n#", re.M | re.S)}
 
 
 def test_cli_page_describes_every_command():

@@ -27,7 +27,8 @@ def _strings(tree: ast.AST) -> tuple[list[str], list[str]]:
     for node in ast.walk(tree):
         if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)) and node.body:
             first = node.body[0]
-            if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant) and isinstance(first.value.value, str):
+            if (isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant)
+                    and isinstance(first.value.value, str)):
                 docs.add(id(first.value))
     doc, code = [], []
     for node in ast.walk(tree):
@@ -51,4 +52,5 @@ def test_no_c_in_python_strings(path):
     assert not found, f"{path.relative_to(ROOT)} holds C in a string: {found[0][:120]!r}"
     if path != HEADER_WRITER:
         defines = [s for s in code if re.search(r"#\s*define\b", s)]
-        assert not defines, f"{path.relative_to(ROOT)} writes C (#define) outside kin/native/header.py: {defines[0][:120]!r}"
+        assert not defines, (f"{path.relative_to(ROOT)} writes C (#define) outside kin/native/header.py: "
+                             f"{defines[0][:120]!r}")

@@ -68,8 +68,6 @@ from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 from threadpoolctl import threadpool_limits
 
-from kin.singular import SingularityAnalysis
-
 from design.learned.branch import (
     _STREAM_HELDOUT,
     _STREAM_TRAIN,
@@ -82,6 +80,7 @@ from design.learned.branch import (
     _rng,
     resolve_branch,
 )
+from kin.singular import SingularityAnalysis
 
 __all__ = ["LearnedIKError", "LearnedIK", "Branch", "resolve_branch", "default_n_train", "pose_features",
            "DEFAULT_N_EVAL"]

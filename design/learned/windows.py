@@ -11,9 +11,6 @@ from typing import Callable, Mapping
 import numpy as np
 from sklearn.base import clone
 
-from kin.singular import SingularFactor, SingularityAnalysis, analyse_singularities
-from planning.windows import Window, WindowSet, window_for_factor
-
 from design.learned.branch import (
     _STREAM_EVAL,
     Branch,
@@ -26,6 +23,8 @@ from design.learned.branch import (
     _rng,
 )
 from design.learned.ik import DEFAULT_N_EVAL, LearnedIK
+from kin.singular import SingularFactor, SingularityAnalysis, analyse_singularities
+from planning.windows import Window, WindowSet, window_for_factor
 
 __all__ = ["learned_window", "learned_windows", "jsonable_report"]
 

@@ -63,7 +63,8 @@ def optimise_de(task: Task, seed: int = 0, settings: VerifySettings | None = Non
     def callback(intermediate_result):
         history.append(float(intermediate_result.fun))
         if progress:
-            progress(f"generation {len(history)}: best score {intermediate_result.fun:.6g}, {evals[0]} designs verified")
+            progress(f"generation {len(history)}: best score {intermediate_result.fun:.6g}, "
+                     f"{evals[0]} designs verified")
         return time.perf_counter() - t0 > max_time
 
     res = differential_evolution(scores, b, seed=seed, workers=1, vectorized=True, updating="deferred",

@@ -89,7 +89,8 @@ def optimise(task: Task, method: str = "ipopt", starts: int = 4, seed: int = 0,
     per further start, from ``seed``); ``settings``: the
     verification budget; ``polish``: re-solves per start with the per-target configurations
     re-seeded at the new design (a target whose configuration sits on another IK branch, or on a
-    stationary point such as a folded arm, is re-seeded from the nearest-neighbour index); ``max_time``: wall-time budget (s) for the solver; ``progress`` receives
+    stationary point such as a folded arm, is re-seeded from the nearest-neighbour index); ``max_time``:
+    wall-time budget (s) for the solver; ``progress`` receives
     one line per start/generation.  ``options`` go to the method (``margin``, ``max_iter`` for
     IPOPT; ``popsize``, ``maxiter`` for DE).
     """
@@ -138,7 +139,8 @@ def optimise(task: Task, method: str = "ipopt", starts: int = 4, seed: int = 0,
               "best_start": best, "time_s": sum(r.time_s for r in runs),
               "verification": {"seeds": settings.seeds, "samples": settings.samples, "seed": settings.seed}}
     return DesignResult(task=task.name, method="ipopt", robot=robot, params=dict(zip(names, P[best].tolist())),
-                        objective_name=task.objective, objective=float(ev.value[best]), feasible=bool(ev.feasible[best]),
+                        objective_name=task.objective, objective=float(ev.value[best]),
+                        feasible=bool(ev.feasible[best]),
                         verification=ev.coverage[best], solver=solver, history=[r.history for r in runs],
                         time_s=time.perf_counter() - t0, length_unit=task.length_unit,
                         architecture="".join("R" if j.is_revolute else "P" for j in robot.chain.joints))

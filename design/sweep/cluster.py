@@ -102,7 +102,7 @@ class DaskExecutor:
                 chunk, tries, _ = flight.pop(f.key)
                 try:
                     out = f.result()
-                except Exception:          # noqa: BLE001 — the worker died or the task was lost: resubmit
+                except Exception:          # the worker died or the task was lost: resubmit
                     if tries + 1 >= self.max_tries:
                         yield lost_chunk(chunk, tries + 1)
                     else:

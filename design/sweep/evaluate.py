@@ -131,7 +131,7 @@ def evaluate_chunk(job: SweepJob, designs: list[Design]) -> list[Outcome]:
             robot = job_robot(job, d.architecture)
             m = fn(job, robot, d)
             out.append(Outcome(d.key, True, m, None, time.perf_counter() - t0, name))
-        except Exception as e:           # noqa: BLE001 — any failure of one design is stored, the sweep goes on
+        except Exception as e:           # any failure of one design is stored, the sweep goes on
             last = traceback.extract_tb(e.__traceback__)[-1] if e.__traceback__ else None
             where = f" ({os.path.basename(last.filename)}:{last.lineno})" if last else ""
             msg = (str(e).splitlines() or [""])[0]

@@ -17,9 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from kin.output import write_output
-
 from design.sweep.store import StoreError, check_existing, read_rows
+from kin.output import write_output
 
 __all__ = ["read_sweep", "sweep_table", "write_csv", "write_parquet", "best_row", "write_atomic", "pareto_front"]
 

@@ -13,8 +13,8 @@ from pathlib import Path
 from typing import Any
 
 from design.task import Task, TaskError, load_task
-from design.task.file import _Reader
 from design.task.file import _architectures as _task_architectures
+from design.task.file import _Reader
 
 __all__ = ["SweepError", "Sweep", "ParameterSpace", "load_sweep", "loads_sweep", "SAMPLINGS", "METRICS"]
 

@@ -11,13 +11,12 @@ from typing import Any
 import numpy as np
 
 import kin
+from design.task.model import OBJECTIVES, Dexterity, Targets, Task, TaskError
+from design.task.targets import box_points, read_points_csv, ring_points, shell_points
 from kin import robotfile
 from kin.chain import ANGLE_UNITS, LENGTH_UNITS
 from kin.robotfile import _tname
 from kin.transforms import rpy_to_matrix
-
-from design.task.model import OBJECTIVES, Dexterity, Targets, Task, TaskError
-from design.task.targets import box_points, read_points_csv, ring_points, shell_points
 
 __all__ = ["load_task", "loads_task", "SHAPES"]
 
@@ -121,7 +120,7 @@ def _targets(r: _Reader, raw: Any, ls: float, as_: float, base: Path, robot) -> 
     for key in _TARGET[shape]:
         if key not in raw and key not in ("z", "theta"):
             raise r.fail(f"target.{key}", f"missing (required for shape {shape!r})")
-    f = lambda k: f"target.{k}"  # noqa: E731
+    f = lambda k: f"target.{k}"
     axes = rotations = None
     if shape == "box":
         lo, hi = np.array(r.vector(raw["min"], f("min"), 3)), np.array(r.vector(raw["max"], f("max"), 3))
@@ -140,7 +139,8 @@ def _targets(r: _Reader, raw: Any, ls: float, as_: float, base: Path, robot) -> 
             z = np.array(r.vector(raw.get("z", [0, 0]), f("z"), 2)) * ls
             th = np.array(r.vector(raw.get("theta", [0, 360 if as_ != 1.0 else 2 * math.pi]), f("theta"), 2)) * as_
             if z[1] < z[0] or th[1] <= th[0] or th[1] - th[0] > 2 * math.pi + 1e-9:
-                raise r.fail(f("z") if z[1] < z[0] else f("theta"), "must be [low, high] with low ≤ high (theta: a span ≤ 360°)")
+                raise r.fail(f("z") if z[1] < z[0] else f("theta"),
+                             "must be [low, high] with low ≤ high (theta: a span ≤ 360°)")
             P = ring_points(c, ri, ro, r.counts(raw["count"], f("count"), 3), z, th)
     elif shape == "points":
         P, axes = read_points_csv(r.file(raw["file"], f("file"), base), ls)

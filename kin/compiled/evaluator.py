@@ -47,7 +47,8 @@ _MEASURE_WANT = (WANT_MANIP, WANT_SIGMA, WANT_SIGMA, WANT_MANIP)
 def check_out(arr, shape: tuple[int, ...], name: str) -> np.ndarray:
     """``arr`` if it is a writeable C-contiguous float64 ndarray of ``shape``, else :class:`OutBufferError`."""
     if type(arr) is not np.ndarray:
-        raise OutBufferError(f"out[{name!r}] is a {type(arr).__name__}; expected a numpy float64 array of shape {shape}")
+        raise OutBufferError(f"out[{name!r}] is a {type(arr).__name__}; "
+                             f"expected a numpy float64 array of shape {shape}")
     if arr.dtype != np.float64 or arr.shape != shape:
         raise OutBufferError(f"out[{name!r}] has dtype {arr.dtype} and shape {arr.shape}; expected float64 {shape}")
     if not arr.flags.c_contiguous or not arr.flags.writeable:

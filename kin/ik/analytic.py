@@ -223,10 +223,10 @@ def _wrist(arm: PieperArm, W: np.ndarray, t1: float, t2: float, t3: float) -> li
 def _into_limits(q: np.ndarray, lo: np.ndarray, hi: np.ndarray, ref: np.ndarray, all_turns: bool) -> list[np.ndarray]:
     """Whole turns added to each angle to bring it within [lo, hi]: the one nearest ``ref`` (or all)."""
     choices = []
-    for x, l, h, r in zip(q, lo, hi, ref):
-        k0 = math.ceil((l - x) / (2 * math.pi) - 1e-12)
-        vals = [x + 2 * math.pi * k for k in range(k0, k0 + 8) if x + 2 * math.pi * k <= h + 1e-12]
-        vals = [min(max(v, l), h) for v in vals]
+    for x, lo_k, hi_k, r in zip(q, lo, hi, ref):
+        k0 = math.ceil((lo_k - x) / (2 * math.pi) - 1e-12)
+        vals = [x + 2 * math.pi * k for k in range(k0, k0 + 8) if x + 2 * math.pi * k <= hi_k + 1e-12]
+        vals = [min(max(v, lo_k), hi_k) for v in vals]
         if not vals:
             return []
         choices.append(vals if all_turns else [min(vals, key=lambda v: abs(v - r))])

@@ -178,7 +178,8 @@ class CompiledIK:
         ints = np.empty((3, N), np.intc)
         ad = ints.ctypes.data
         self._solve(Pt.ctypes.data, None if Rt is None else Rt.ctypes.data, P.ctypes.data, pstride,
-                    None if Q0 is None else Q0.ctypes.data, q0stride, self._lo_p, self._hi_p, None if rb is None else rb.ctypes.data,
+                    None if Q0 is None else Q0.ctypes.data, q0stride, self._lo_p, self._hi_p,
+                    None if rb is None else rb.ctypes.data,
                     N, int(Rt is not None), self.weight, float(tol_position), float(tol_orientation),
                     float(tol_cost), int(max_iter), max(int(max_starts), 1), int(seed) & 0xFFFFFFFFFFFFFFFF,
                     self._threads(threads),

@@ -285,7 +285,8 @@ def local_ik(robot, T, q, mode: str = "auto", max_iter: int = 150, tol_position:
     if Q0 is None:
         raise ConfigurationError("local IK needs a warm start q")
     N = len(Pt)
-    lm = _LM(robot, robot.chain.parameter_values if P is None else P, _length_scale(robot.chain), tol_position, tol_orientation, max_iter)
+    lm = _LM(robot, robot.chain.parameter_values if P is None else P, _length_scale(robot.chain), tol_position,
+             tol_orientation, max_iter)
     Q, pe, oe = lm.run(Q0, Pt, Rt, np.arange(N))
     ok = (pe <= tol_position) & (oe <= tol_orientation)
     if single:

@@ -11,8 +11,7 @@ FK/Jacobian/measures and the single-call extension), ``kin/ik/ik.c`` (the batch 
 from kin.native.builder import COMMON_FLAGS, NATIVE_TIMEOUT, Library, build, library_dir
 from kin.native.graph import graph_table
 from kin.native.header import Header, c_double
-from kin.native.settings import (cache_dir, default_threads, find_compiler, python_extension_flags,
-                                 requested_arch)
+from kin.native.settings import cache_dir, default_threads, find_compiler, python_extension_flags, requested_arch
 
 __all__ = ["COMMON_FLAGS", "NATIVE_TIMEOUT", "Header", "Library", "build", "c_double", "cache_dir",
            "default_threads", "find_compiler", "graph_table", "library_dir", "python_extension_flags",

@@ -37,8 +37,7 @@ from pathlib import Path
 
 from kin.errors import CompileError
 from kin.native.lock import file_lock
-from kin.native.settings import (ARCH_FLAGS, cache_dir, compiler_identity, cpu_fingerprint, find_compiler,
-                                 requested_arch)
+from kin.native.settings import ARCH_FLAGS, cache_dir, compiler_identity, cpu_fingerprint, find_compiler, requested_arch
 
 #: the shared headers (rmt_common.h, rmt_parallel.h, rmt_graph.h)
 INCLUDE_DIR = Path(__file__).resolve().with_name("include")
@@ -99,12 +98,12 @@ def build(kernel: str, source: Path, header: str = "", *, flags: Sequence[str] =
     if arch != "portable":
         try:
             return _build_one(*args, arch, compiler, directory, what)
-        except _CompilerFailed:
+        except _CompilerFailedError:
             pass  # e.g. a compiler that does not know -march=native: the portable build below
     return _build_one(*args, "portable", compiler, directory, what)
 
 
-class _CompilerFailed(CompileError):
+class _CompilerFailedError(CompileError):
     """The compiler ran and refused (the only failure the portable build is tried after)."""
 
 
@@ -170,7 +169,7 @@ def _run(cmd: list[str], compiler: str, arch: str, what: str) -> None:
     except OSError as e:
         raise CompileError(f"cannot run the C compiler {compiler}: {e.strerror or e}") from None
     if proc.returncode != 0:
-        raise _CompilerFailed(f"{name} ({arch} build) failed on {what}: "
+        raise _CompilerFailedError(f"{name} ({arch} build) failed on {what}: "
                               f"{first_error(proc.stderr) or f'exit status {proc.returncode}'}")
 
 

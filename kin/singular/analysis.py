@@ -38,8 +38,16 @@ from kin.singular import cache
 from kin.singular.budget import DEFAULT_MEMORY, BudgetError, check_budget, run_with_budget
 from kin.singular.component import SingularSet
 from kin.singular.determinant import ROW_NAMES, derivation_text, wrist_centre
-from kin.singular.exact import (StructureError, content_key, exact_structure, from_tree, numeric_form, rebuild,
-                                trig_form, validate_structure)
+from kin.singular.exact import (
+    StructureError,
+    content_key,
+    exact_structure,
+    from_tree,
+    numeric_form,
+    rebuild,
+    trig_form,
+    validate_structure,
+)
 from kin.singular.kinds import classify
 from kin.singular.numeric import KINDS, Progress, numeric_components
 from kin.singular.solve import display_text, lambdify_factor, sample_zero_set

@@ -58,10 +58,10 @@ def _child(conn, fn: Callable[..., Any], args: tuple, memory: int) -> None:
         conn.send_bytes(json.dumps({"ok": fn(*args)}).encode())
     except MemoryError:
         conn.send_bytes(b'{"memory": true}')
-    except BaseException as e:  # noqa: BLE001 - every failure is reported to the parent as data
+    except BaseException as e:  # every failure is reported to the parent as data
         try:
             conn.send_bytes(json.dumps({"error": f"{type(e).__name__}: {e}"[:500]}).encode())
-        except BaseException:  # noqa: BLE001
+        except BaseException:
             pass
     finally:
         conn.close()

@@ -29,12 +29,12 @@ def numeric_axes(robot, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     import casadi as ca
     f = ca.Function("axes", [sym.q, sym.p], [ca.horzcat(*[z for z, _ in sym.axes]),
                                               ca.horzcat(*[o for _, o in sym.axes])])
-    Z, O = [], []
+    Z, origins = [], []
     for q in Q:
         z, o = f(q, robot.chain.parameter_values)
         Z.append(np.array(z).T)
-        O.append(np.array(o).T)
-    return np.array(Z), np.array(O)
+        origins.append(np.array(o).T)
+    return np.array(Z), np.array(origins)
 
 
 def closest_point(z1, o1, z2, o2) -> tuple[np.ndarray, float]:
@@ -60,10 +60,10 @@ def wrist_centre(robot, seed: int = 0) -> tuple[int, np.ndarray] | None:
         return None
     rng = np.random.default_rng(seed)
     Q = rng.uniform(chain.lower, chain.upper, size=(4, n))
-    Z, O = numeric_axes(robot, Q)
+    Z, origins = numeric_axes(robot, Q)
     frames = robot.symbolic.frames_function
     local = []
-    for q, z, o in zip(Q, Z, O):
+    for q, z, o in zip(Q, Z, origins):
         p1, d1 = closest_point(z[n - 3], o[n - 3], z[n - 2], o[n - 2])
         p2, d2 = closest_point(z[n - 2], o[n - 2], z[n - 1], o[n - 1])
         if d1 > 1e-9 or d2 > 1e-9 or np.linalg.norm(p1 - p2) > 1e-9:

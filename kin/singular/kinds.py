@@ -38,14 +38,14 @@ def classify(robot, factor_joints: tuple[int, ...], block: str, samples: np.ndar
     Zg, _ = numeric_axes(robot, generic[None])
     generic_pairs = _parallel_pairs(Zg[0], revolute)
     use = samples[: min(len(samples), 12)]
-    Z, O = numeric_axes(robot, use)
+    Z, origins = numeric_axes(robot, use)
     if block in ("wrist", "rotary axes"):
         pairs = set.intersection(*[_parallel_pairs(z, revolute) - generic_pairs for z in Z]) if len(Z) else set()
         pair = " and ".join(f"{i + 1}" for i in sorted(pairs)[0]) if pairs else "of the wrist"
         what = "the wrist" if block == "wrist" else "the rotary head"
         return "wrist", f"axes of joints {pair} become parallel: {what} loses one rotation ({names} singular)"
     votes: dict[str, int] = {}
-    for q, z, o in zip(use, Z, O):
+    for q, z, o in zip(use, Z, origins):
         new_pairs = _parallel_pairs(z, revolute) - generic_pairs
         if block == "full" and any(i >= n - 3 and j >= n - 3 for i, j in new_pairs):
             votes["wrist"] = votes.get("wrist", 0) + 1
@@ -77,9 +77,11 @@ def classify(robot, factor_joints: tuple[int, ...], block: str, samples: np.ndar
     kind = max(votes, key=lambda k: votes[k])
     meaning = {
         "wrist": f"two wrist axes become parallel: the wrist loses one rotation ({names} singular)",
-        "elbow": f"arm stretched or folded ({names}): the {point} is at the boundary of its reach and cannot move along the arm",
+        "elbow": f"arm stretched or folded ({names}): the {point} is at the boundary of its reach "
+                 "and cannot move along the arm",
         "boundary": f"arm stretched or folded ({names}): the {point} is on the workspace boundary",
-        "shoulder": f"the {point} lies on the axis of joint 1 (or on its offset surface): joint 1 cannot move it sideways",
+        "shoulder": f"the {point} lies on the axis of joint 1 (or on its offset surface): "
+                    "joint 1 cannot move it sideways",
         "other": f"joints {names} lose a direction of motion together",
     }[kind]
     return kind, meaning
@@ -87,15 +89,15 @@ def classify(robot, factor_joints: tuple[int, ...], block: str, samples: np.ndar
 
 # ---- points of a numerically found component ---------------------------------------------------
 def axis_lines(robot, Q: np.ndarray):
-    """Joint axes from the Jacobian: directions Z (N, n, 3) and points O (N, n, 3) on each revolute
-    axis (the point nearest the tool point), tool points P (N, 3) and tool rotations R (N, 3, 3)."""
+    """Joint axes from the Jacobian: directions Z (N, n, 3) and points ``origins`` (N, n, 3) on each
+    revolute axis (the point nearest the tool point), tool points P (N, 3) and tool rotations R (N, 3, 3)."""
     T, J = robot.fk_jacobian(Q)
     T, J = T.reshape(-1, 4, 4), J.reshape(-1, 6, robot.n)
     P = T[:, :3, 3]
     rev = robot.chain.revolute_mask
     Z = np.where(rev[None, :, None], np.transpose(J[:, 3:, :], (0, 2, 1)), np.transpose(J[:, :3, :], (0, 2, 1)))
-    O = P[:, None, :] + np.cross(Z, np.transpose(J[:, :3, :], (0, 2, 1)))
-    return Z, O, P, T[:, :3, :3]
+    origins = P[:, None, :] + np.cross(Z, np.transpose(J[:, :3, :], (0, 2, 1)))
+    return Z, origins, P, T[:, :3, :3]
 
 
 def parallel(a: np.ndarray, b: np.ndarray, tol: float = 1e-5) -> bool:
@@ -109,21 +111,21 @@ def name_point(robot, q: np.ndarray, own: list[int], generic_parallel: set, wc_f
     rev = [i for i in range(n) if chain.joints[i].is_revolute]
     if all(not chain.joints[j].is_revolute for j in own):
         return "prismatic"
-    Z, O, P, _ = (x[0] for x in axis_lines(robot, q[None]))
+    Z, origins, P, _ = (x[0] for x in axis_lines(robot, q[None]))
     last = [i for i in rev if i >= n - 3]
     for a in range(len(last)):
         for b in range(a + 1, len(last)):
             i, j = last[a], last[b]
             if (i, j) not in generic_parallel and parallel(Z[i], Z[j]):
                 return "wrist"
-    reach = max(float(np.linalg.norm(P - O[0])), 1e-9)
+    reach = max(float(np.linalg.norm(P - origins[0])), 1e-9)
     if wc_frame is not None:
         # positioning Jacobian at the wrist centre (the intersection of the last three axes)
-        w, dist = closest_point(Z[n - 3], O[n - 3], Z[n - 2], O[n - 2])
+        w, dist = closest_point(Z[n - 3], origins[n - 3], Z[n - 2], origins[n - 2])
         if not math.isfinite(dist):
-            w, _ = closest_point(Z[n - 2], O[n - 2], Z[n - 1], O[n - 1])
+            w, _ = closest_point(Z[n - 2], origins[n - 2], Z[n - 1], origins[n - 1])
         k = n - 3
-        M = np.stack([np.cross(Z[i], w - O[i]) if chain.joints[i].is_revolute else Z[i] for i in range(k)], 1)
+        M = np.stack([np.cross(Z[i], w - origins[i]) if chain.joints[i].is_revolute else Z[i] for i in range(k)], 1)
         point, idx = w, list(range(k))
         U, _, Vt = np.linalg.svd(M)
         lost = U[:, -1]
@@ -147,11 +149,11 @@ def name_point(robot, q: np.ndarray, own: list[int], generic_parallel: set, wc_f
             return "shoulder"
     if len(own) == 1 and own[0] != 0 and chain.joints[own[0]].is_revolute and lost is not None:
         # stretched/folded about one joint: the lost motion is along the line from its axis to the point
-        r = point - O[own[0]]
+        r = point - origins[own[0]]
         r = r - (r @ Z[own[0]]) * Z[own[0]]
         if np.linalg.norm(r) > 1e-6 * reach and abs(lost @ r) / np.linalg.norm(r) > 0.999:
             return "boundary" if set(robot.task_rows) <= {0, 1, 2} else "elbow"
-    if chain.joints[0].is_revolute and np.linalg.norm(np.cross(Z[0], point - O[0])) < 1e-6 * reach:
+    if chain.joints[0].is_revolute and np.linalg.norm(np.cross(Z[0], point - origins[0])) < 1e-6 * reach:
         return "shoulder"
     return "other"
 

@@ -10,7 +10,6 @@ import sympy as sp
 from scipy.optimize import brentq, minimize_scalar
 
 
-
 def display_form(expr: sp.Expr) -> sp.Expr:
     """The expression as shown: trig combined when it shortens it (sympy's trigsimp: slow, so the
     budgeted worker does it)."""
@@ -20,7 +19,7 @@ def display_form(expr: sp.Expr) -> sp.Expr:
             t = sp.trigsimp(e)
             if sp.count_ops(t) <= sp.count_ops(e):
                 e = t
-        except Exception:  # noqa: BLE001 - trigsimp is cosmetic
+        except Exception:  # trigsimp is cosmetic
             pass
     return e
 

@@ -33,7 +33,8 @@ class UrdfJoint:
 
     name: str
     type: Literal["revolute", "prismatic"]   # a continuous joint is revolute, with ``continuous`` set
-    origin: np.ndarray                       # (4, 4): previous joint's moving frame (or the base link) → this joint's frame
+    origin: np.ndarray                       # (4, 4): previous joint's moving frame (or the base link)
+                                             # → this joint's frame
     axis: np.ndarray                         # (3,) unit, in this joint's frame
     limits: tuple[float, float]
     max_velocity: float | None = None        # rad/s or m/s
@@ -100,7 +101,7 @@ def load_urdf_model(path: str | Path):
         with np.errstate(all="ignore"):
             model = yourdfpy.URDF.load(path, build_scene_graph=False, build_collision_scene_graph=False,
                                        load_meshes=False, load_collision_meshes=False)
-    except Exception as e:  # noqa: BLE001 -- lxml, yourdfpy and attribute errors alike: not a URDF
+    except Exception as e:  # lxml, yourdfpy and attribute errors alike: not a URDF
         raise UrdfError(f"not a readable URDF ({type(e).__name__}: {str(e).strip() or 'malformed XML'})",
                         path, "robot") from None
     finally:

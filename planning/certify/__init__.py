@@ -8,5 +8,5 @@ from planning.certify.intervals import IntervalError, compile_interval
 from planning.certify.segments import PathProof, SegmentViolation, certify_path
 from planning.certify.sigma import SigmaProof, certify_sigma, jacobian_lipschitz
 
-__all__ = ["certify_path", "PathProof", "SegmentViolation", "certify_sigma", "SigmaProof", "jacobian_lipschitz", "FreeCells", "Separation", "free_cells", "compile_interval",
-           "IntervalError"]
+__all__ = ["certify_path", "PathProof", "SegmentViolation", "certify_sigma", "SigmaProof", "jacobian_lipschitz",
+           "FreeCells", "Separation", "free_cells", "compile_interval", "IntervalError"]

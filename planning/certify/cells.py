@@ -13,8 +13,8 @@ projections lie in one connected piece of that group's free set.
   *blocked* only when interval arithmetic proves it lies wholly inside one window
   (:mod:`planning.certify.intervals`); the unblocked cells, joined through faces, edges and corners
   (labelled by :func:`label_cells`), hold the whole free set.  If the start's and the goal's cells
-  are in different components of the unblocked cells, no joint path exists — a proof, whatever the grid's resolution (a coarser grid
-  only proves less).
+  are in different components of the unblocked cells, no joint path exists — a proof, whatever the
+  grid's resolution (a coarser grid only proves less).
 * Larger groups, and windows whose expression interval arithmetic does not support, are left out —
   leaving a window out only enlarges the set searched, so every verdict stays sound.
 

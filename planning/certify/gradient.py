@@ -26,7 +26,6 @@ import numpy as np
 from kin.errors import ConfigurationError
 from kin.singular.evaluate import batch_function
 from kin.singular.tree import Node, derivative, variables
-
 from planning.certify.intervals import compile_interval
 
 __all__ = ["GradientBound", "gradient_bound", "zero_free", "REL_TOL", "MAX_BOXES"]

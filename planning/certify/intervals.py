@@ -23,7 +23,6 @@ from typing import Callable
 import numpy as np
 
 from kin.singular.tree import Add, Cos, Mul, Node, Num, Pow, Sin, Var
-
 from planning.errors import PlanningError
 
 __all__ = ["IntervalError", "compile_interval", "cos_interval", "sin_interval", "ROUNDING"]

@@ -23,7 +23,6 @@ import numpy as np
 from kin.errors import ConfigurationError
 from kin.singular.expression import parse_tree
 from kin.singular.tree import Node
-
 from planning.certify.intervals import IntervalError, compile_interval
 
 __all__ = ["SegmentViolation", "PathProof", "certify_path", "MAX_DEPTH", "MAX_PIECES"]

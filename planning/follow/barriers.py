@@ -13,7 +13,6 @@ import numpy as np
 
 from kin.singular.evaluate import scalar_function
 from kin.singular.tree import derivative
-
 from planning.certify.segments import window_expression
 from planning.windows import Window
 

@@ -246,21 +246,21 @@ def follow_path(robot, path, q0, windows: WindowSet | Sequence[Window] | None = 
         ub = np.minimum((hi - q) / h, vmax)
         lb = np.minimum(lb, 0.0)   # q inside its limits: 0 is always feasible
         ub = np.maximum(ub, 0.0)
-        l = np.empty(n + nw)
+        low = np.empty(n + nw)
         u = np.full(n + nw, np.inf)
-        l[:n], u[:n] = lb, ub
+        low[:n], u[:n] = lb, ub
         dval = np.full(nw, np.inf)
         for i, b in enumerate(barriers):
             d, g = b(q)
             Adense[n + i, b.joints] = g
             dval[i] = d
             if not math.isfinite(d):
-                l[n + i] = -np.inf
+                low[n + i] = -np.inf
                 continue
             need = -gamma_scale * (d - b.m)
             # never ask for more outward speed than the joint box allows (keeps stage 1 feasible)
             reach = float(np.sum(np.maximum(g * ub[b.joints], g * lb[b.joints])))
-            l[n + i] = min(need, 0.5 * reach) if need > 0 else need
+            low[n + i] = min(need, 0.5 * reach) if need > 0 else need
         solver.update(Px=Pm[p_rows, p_cols], Ax=Adense[a_rows_csc, a_cols_csc])
         # inside a window (or its buffer): is there a configuration outside it that still meets the
         # next target within the slack?  (one QP over a joint displacement Δ within the joint limits,
@@ -280,8 +280,8 @@ def follow_path(robot, path, q0, windows: WindowSet | Sequence[Window] | None = 
                 probe_forced[i] = rp > tol_p or ro > tol_o
             else:
                 probe_forced[i] = True
-        l[n:][probe_forced] = -np.inf
-        solver.update(q=qlin, l=l, u=u)
+        low[n:][probe_forced] = -np.inf
+        solver.update(q=qlin, l=low, u=u)
         res = solver.solve(raise_error=False)
         st = res.info.status
         qd = None
@@ -292,10 +292,10 @@ def follow_path(robot, path, q0, windows: WindowSet | Sequence[Window] | None = 
                 rp, ro = _task_error_norms(r, R, mode)
                 if rp > tol_p or ro > tol_o:
                     # which barriers bind?  If none, the windows are not what limits the tracking
-                    lw = np.where(np.isfinite(l[n:]), l[n:], 0.0)      # dropped barriers: l = −∞
+                    lw = np.where(np.isfinite(low[n:]), low[n:], 0.0)      # dropped barriers: low = −∞
                     act = Adense[n:] @ res.x <= lw + 1e-7 * np.maximum(1.0, np.abs(lw))
                     act |= np.abs(res.y[n:]) > 1e-9
-                    act &= np.isfinite(l[n:])
+                    act &= np.isfinite(low[n:])
                     if act.any():
                         qd = None
             if qd is not None:
@@ -305,7 +305,7 @@ def follow_path(robot, path, q0, windows: WindowSet | Sequence[Window] | None = 
         forced[k + 1] = bool(probe_forced.any())
         if qd is None and nw:
             # stage 2: the path forces the follower into the windows whose barriers bound stage 1
-            l2 = l.copy()
+            l2 = low.copy()
             l2[n:][act] = -np.inf
             solver.update(l=l2)
             res = solver.solve(raise_error=False)

@@ -12,7 +12,6 @@ import math
 import numpy as np
 
 from kin.errors import ConfigurationError
-
 from planning.errors import PlanningError
 
 __all__ = ["FollowError", "MODES", "DEFAULT_V_MAX_REVOLUTE", "DEFAULT_V_MAX_PRISMATIC", "joint_velocity_limits"]

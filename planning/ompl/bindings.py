@@ -10,8 +10,8 @@ import atexit
 import os
 import sys
 
-from ompl import base as ob  # noqa: F401  (re-exported)
-from ompl import geometric as og  # noqa: F401
+from ompl import base as ob  # noqa: F401 - re-exported for the planner modules
+from ompl import geometric as og  # noqa: F401 - re-exported for the planner modules
 from ompl import util as ou
 
 ou.setLogLevel(ou.LogLevel.LOG_WARN)

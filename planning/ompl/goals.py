@@ -8,7 +8,6 @@ import math
 import numpy as np
 
 from kin.ik.analytic import NoClosedFormError, analytic_ik
-
 from planning.certify import FreeCells
 from planning.errors import PlanningError
 from planning.ompl.validity import JointSpaceChecker
@@ -39,8 +38,8 @@ def goal_from_pose(robot, pose: np.ndarray, start: np.ndarray, checker: JointSpa
                     cells: FreeCells, seed: int) -> tuple[np.ndarray, dict]:
     """The goal configuration of a tool pose: among its IK branches (every branch of the closed form
     where the chain has one, :func:`kin.ik.analytic.analytic_ik`), the solutions of the numeric IK
-    from several starts and their wrist twins, the valid ones in the start's free cell, nearest the start first (else the nearest
-    valid one; the caller then reports the separation).  Returns it and a description."""
+    from several starts and their wrist twins, the valid ones in the start's free cell, nearest the
+    start first (else the nearest valid one; the caller then reports the separation).  Returns it and a description."""
     cands: list[np.ndarray] = []
     try:                                 # every branch in closed form where the chain has one
         cands.extend(analytic_ik(robot, pose, q_ref=start))

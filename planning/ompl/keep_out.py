@@ -18,7 +18,6 @@ import tomllib
 from pathlib import Path
 
 from kin.chain import LENGTH_UNITS
-
 from planning.errors import PlanningError
 from planning.ompl.validity import KeepOutBox
 

@@ -28,10 +28,11 @@ from typing import Sequence
 import numpy as np
 
 from kin.errors import ConfigurationError
-
 from planning.certify import PathProof, Separation, free_cells
 from planning.errors import PlanningError
 from planning.ompl.bindings import ob, og, quiet_rng_seed
+from planning.ompl.goals import goal_from_pose
+from planning.ompl.validity import JointSpaceChecker, KeepOutBox
 from planning.validate import (
     DEFAULT_STEP_ANGLE,
     DEFAULT_STEP_LENGTH,
@@ -39,8 +40,6 @@ from planning.validate import (
     check_path,
     densify,
 )
-from planning.ompl.goals import goal_from_pose
-from planning.ompl.validity import JointSpaceChecker, KeepOutBox
 
 PLANNERS = {
     "rrtconnect": "RRTConnect", "rrt": "RRT", "rrtstar": "RRTstar", "informedrrtstar": "InformedRRTstar",
@@ -118,7 +117,7 @@ class _MotionValidator(ob.MotionValidator):
         self.checker = checker
         self.n = checker.n
 
-    def checkMotion(self, s1, s2):  # noqa: N802 - OMPL's name
+    def checkMotion(self, s1, s2):  # OMPL's name
         n = self.n
         a = [s1[i] for i in range(n)]
         b = [s2[i] for i in range(n)]
@@ -179,7 +178,7 @@ class _SingularityCost(ob.StateCostIntegralObjective):
         self.checker = checker
         self.scale = scale
 
-    def stateCost(self, s):  # noqa: N802 - OMPL's name
+    def stateCost(self, s):  # OMPL's name
         q = [s[i] for i in range(self.checker.n)]
         return ob.Cost(self.scale / max(self.checker.sigma(q), 1e-9))
 

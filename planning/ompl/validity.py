@@ -15,7 +15,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from kin.singular.evaluate import scalar_function
-
 from planning.certify.segments import window_expression
 from planning.errors import PlanningError
 

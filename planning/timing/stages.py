@@ -34,7 +34,8 @@ class Stages:
 
     ``s`` (K+1,) grid; ``h`` (K,) its steps; ``ub`` (K+1,) upper bound of each b (0 at both ends and
     at stops, else inf); ``beta`` (K+1,) the maximum velocity curve at the grid points, or an upper
-    bound of it (see :func:`build_stages`; every feasible b_i ≤ beta_i; inf where nothing bounds it); rows ``iv, ci, cj, lo, up`` (R,) sorted by
+    bound of it (see :func:`build_stages`; every feasible b_i ≤ beta_i; inf where nothing bounds it);
+    rows ``iv, ci, cj, lo, up`` (R,) sorted by
     interval; the constraint points ``ri, rs, rp, theta`` (2·segments,) with ``d1, d2`` (…, n) = q′, q″
     there (pairs (0, 1), (2, 3), … are the two ends of one segment).
     """

@@ -36,9 +36,8 @@ import numpy as np
 
 from kin.errors import ConfigurationError, RmtError
 from kin.transforms import rotation_error
-
-from planning.toolpath.model import ToolPath, ToolPathError
 from planning.toolpath.ik import continuous_ik
+from planning.toolpath.model import ToolPath, ToolPathError
 from planning.toolpath.report import KINDS, Problem, ToolPathReport
 from planning.windows import WindowSet
 
@@ -180,8 +179,9 @@ def validate_toolpath(robot, toolpath: ToolPath, windows: WindowSet | None = Non
     problem = None
     if first is not None:
         i, k = first
-        detail = _detail(k, i, int(prev[i]), robot, Q, position_error, orientation_error, limit_margin, margins, sig, sigma_min,
-                         win, windows, qd, vmax, step, bound, tol_position, tol_orientation, limit_clearance, pose)
+        detail = _detail(k, i, int(prev[i]), robot, Q, position_error, orientation_error, limit_margin, margins, sig,
+                         sigma_min, win, windows, qd, vmax, step, bound, tol_position, tol_orientation,
+                         limit_clearance, pose)
         problem = Problem(i, k, detail, float(s[i]), None if toolpath.t is None else float(toolpath.t[i]),
                           toolpath.origin(i))
     thresholds = {"tol_position": tol_position, "tol_orientation": tol_orientation, "sigma_min": sigma_min,

@@ -23,7 +23,6 @@ from pathlib import Path
 import numpy as np
 
 from kin.chain import ANGLE_UNITS, LENGTH_UNITS
-
 from planning.toolpath.geometry import (
     QUAT_NORM_TOL,
     assemble_poses,
@@ -173,7 +172,8 @@ def parse_toolpath_csv(text: str, length_scale: float, angle_scale: float, src: 
         bad = (feed < FEED_RANGE[0]) | (feed > FEED_RANGE[1])
         if np.any(bad):
             i = int(np.argmax(bad))
-            raise ToolPathError(f"feed {cols['feed'][i]:.6g} is outside the allowed range [{FEED_RANGE[0] / length_scale:g}, "
+            raise ToolPathError(f"feed {cols['feed'][i]:.6g} is outside the allowed range "
+                                f"[{FEED_RANGE[0] / length_scale:g}, "
                                 f"{FEED_RANGE[1] / length_scale:g}] ({unit_names[0]}/s)", src,
                                 f"line {lines[i]}, column 'feed'")
         t = times_from_feed(s, feed)

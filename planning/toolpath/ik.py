@@ -34,7 +34,6 @@ import numpy as np
 from scipy.linalg import lapack
 
 from kin.transforms import log_so3, rotation_error
-
 from planning.toolpath.geometry import slerp
 from planning.toolpath.model import ToolPath
 

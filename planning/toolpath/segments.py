@@ -30,13 +30,12 @@ from __future__ import annotations
 import math
 import tomllib
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
 from kin.chain import ANGLE_UNITS, LENGTH_UNITS
 from kin.validation import Fields, type_name
-
 from planning.toolpath.geometry import (
     QUAT_NORM_TOL,
     assemble_poses,

@@ -12,7 +12,6 @@ import numpy as np
 
 from kin.singular import SingularComponent, SingularFactor, SingularityAnalysis, analyse_singularities
 from kin.singular.exact import content_key
-
 from planning.certify.gradient import gradient_bound, zero_free
 from planning.certify.intervals import IntervalError
 from planning.errors import WindowError

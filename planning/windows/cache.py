@@ -24,7 +24,6 @@ from typing import Callable
 
 from kin.compiled import cache_dir
 from kin.errors import RmtError
-
 from planning.windows.model import WindowSet, robot_key
 
 __all__ = ["RULE_VERSION", "window_key", "cache_path", "load_cached", "store", "cached"]

@@ -19,7 +19,6 @@ from kin.singular.evaluate import batch_function
 from kin.singular.expression import ExpressionError, parse_tree
 from kin.singular.tree import Node
 from kin.validation import is_count, is_real
-
 from planning.errors import WindowError
 from planning.windows.base import WindowBase
 from planning.windows.sampled import PointSetWindow, is_point_set_entry

@@ -92,7 +92,7 @@ class PointSetWindow(WindowBase):
         Q2, _ = self._batch(Q)
         if len(self.points) == 0:
             return np.full(len(Q2), np.inf)
-        from kin.singular.numeric import sampled_distance      # the numeric analysis: only when used
+        from kin.singular.numeric import sampled_distance  # the numeric analysis: only when used
         return sampled_distance(self.tree, self.normals, self.radius, Q2[:, [j - 1 for j in self.joints]])
 
     def contains(self, Q) -> np.ndarray:

@@ -16,12 +16,11 @@ Figures (all wall times on this machine; provisional when it is loaded):
 """
 from __future__ import annotations
 
-import os
 import argparse
+import os
 import sys
 import time
 from pathlib import Path
-
 
 from design.architecture import optimise_architectures
 from design.coverage import coverage
@@ -54,12 +53,13 @@ def run(quick: bool = False) -> dict:
     n = 20 if quick else 50
     grid, t_grid = _timed(grid_search, scara, n, settings)
     de, t_de = _timed(optimise, scara, method="de", settings=settings, popsize=8, maxiter=20 if quick else 40)
-    fig["scara_ipopt_vs_grid"] = {"grid": f"{n}x{n}", "ipopt_objective_m": ip.objective, "grid_objective_m": grid.best_score,
-                                  "gap_percent": 100 * (ip.objective - grid.best_score) / grid.best_score,
-                                  "ipopt_time_s": t_ip, "grid_time_s": t_grid, "time_ratio": t_grid / t_ip,
-                                  "ipopt_params_m": ip.params, "grid_params_m": dict(zip(ip.params, grid.best.tolist())),
-                                  "ipopt_feasible": ip.feasible, "within_1_percent": ip.objective <= 1.01 * grid.best_score,
-                                  "at_least_20x": t_grid / t_ip >= 20}
+    fig["scara_ipopt_vs_grid"] = {
+        "grid": f"{n}x{n}", "ipopt_objective_m": ip.objective, "grid_objective_m": grid.best_score,
+        "gap_percent": 100 * (ip.objective - grid.best_score) / grid.best_score,
+        "ipopt_time_s": t_ip, "grid_time_s": t_grid, "time_ratio": t_grid / t_ip,
+        "ipopt_params_m": ip.params, "grid_params_m": dict(zip(ip.params, grid.best.tolist())),
+        "ipopt_feasible": ip.feasible, "within_1_percent": ip.objective <= 1.01 * grid.best_score,
+        "at_least_20x": t_grid / t_ip >= 20}
     fig["scara_de_vs_ipopt"] = {"de_objective_m": de.objective, "ipopt_objective_m": ip.objective,
                                 "gap_percent": 100 * (de.objective - ip.objective) / ip.objective,
                                 "de_time_s": t_de, "de_designs_verified": de.solver["evaluations"],
@@ -91,10 +91,12 @@ def report(fig: dict) -> str:
                  f"{g['grid_objective_m']:.6f} m in {g['grid_time_s']:.1f} s: gap {g['gap_percent']:+.3f} % "
                  f"[{'PASS' if g['within_1_percent'] else 'MISS'} ≤ 1 %], {g['time_ratio']:.0f}× sooner "
                  f"[{'PASS' if g['at_least_20x'] else 'MISS'} ≥ 20×]")
-    lines.append(f"  SCARA DE {d['de_objective_m']:.6f} m in {d['de_time_s']:.1f} s ({d['de_designs_verified']} designs): "
+    lines.append(f"  SCARA DE {d['de_objective_m']:.6f} m in {d['de_time_s']:.1f} s "
+                 f"({d['de_designs_verified']} designs): "
                  f"{d['gap_percent']:+.3f} % against IPOPT")
     p = fig["planar_ring"]
-    lines.append(f"  planar 2R, L1 + L2 = 2 m: L1 = {p['L1_m']:.4f}, L2 = {p['L2_m']:.4f} m, {p['coverage_percent']:.1f} % "
+    lines.append(f"  planar 2R, L1 + L2 = 2 m: L1 = {p['L1_m']:.4f}, L2 = {p['L2_m']:.4f} m, "
+                 f"{p['coverage_percent']:.1f} % "
                  f"covered, {p['time_s']:.2f} s")
     f = fig["fanuc_weld_cell"]
     lines.append(f"  FANUC weld cell: a2 = {f['a2_m']:.4f} m, d4 = {f['d4_m']:.4f} m (nominal 0.770, 0.740), "

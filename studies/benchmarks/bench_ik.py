@@ -233,7 +233,8 @@ def run(name: str, N: int, quick: bool, log=None) -> dict:
         "single": single, "peer_skipped": skipped, "rmtkit_batch_1_thread": b1, "rmtkit_batch_2_threads": b2,
         "batch_same_answers_1_vs_2_threads": same,
         "unreachable": {"by_kind": unreach, "median_ms": u_med},
-        "analytic": {"ms_per_target_all_branches": analytic_ms, "branch_counts_first_100": np.bincount(branches).tolist()},
+        "analytic": {"ms_per_target_all_branches": analytic_ms,
+                     "branch_counts_first_100": np.bincount(branches).tolist()},
         "ratios": ratios,
         "checks": [_check("single_median_ms", s1["median_ms"]),
                    _check("batch_2_threads_per_s", b2["solves_per_s"]),
@@ -251,7 +252,8 @@ def format_report(R: dict) -> str:
           f"{'  — PROVISIONAL: the machine is loaded' if env['provisional'] else ''}"),
          "one target at a time (solvers taking turns on each target):"]
     for k, v in R["single"].items():
-        L.append(f"  {k:22s} median {v['median_ms']:.4f} ms, p95 {v['p95_ms']:.4f} ms, {v['loop_solves_per_s']:9,.0f}/s;"
+        L.append(f"  {k:22s} median {v['median_ms']:.4f} ms, p95 {v['p95_ms']:.4f} ms, "
+                 f"{v['loop_solves_per_s']:9,.0f}/s;"
                  f" success {100 * v['success_rate']:6.2f} %, false successes {v['false_successes']}")
     if R["peer_skipped"]:
         L.append(f"  roboticstoolbox skipped — {R['peer_skipped']}")
@@ -274,7 +276,8 @@ def format_report(R: dict) -> str:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m studies.benchmarks.bench_ik", description=__doc__.splitlines()[0])
     ap.add_argument("--json", action="store_true", help="print one JSON object instead of the report")
-    ap.add_argument("--robot", default=DEFAULT_ROBOT, help=f"bundled 6R arm with a spherical wrist (default {DEFAULT_ROBOT})")
+    ap.add_argument("--robot", default=DEFAULT_ROBOT,
+                    help=f"bundled 6R arm with a spherical wrist (default {DEFAULT_ROBOT})")
     ap.add_argument("--targets", type=int, default=1000, help="number of reachable targets (default 1000)")
     ap.add_argument("--quick", action="store_true", help="fewer repeats and peer targets (smoke test)")
     args = ap.parse_args(argv)

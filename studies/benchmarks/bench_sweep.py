@@ -109,7 +109,7 @@ def store_overhead(folder: Path, n: int = 2000) -> float:
 def noop_sweep(folder: Path, make, n1: int, n2: int, name: str) -> float:
     """ms per design of a sweep whose per-design function does nothing, on ``make()`` (start-up of
     the pool or cluster included)."""
-    from studies.benchmarks.bench_sweep import evaluate_noop as noop     # by its module name, not __main__
+    from studies.benchmarks.bench_sweep import evaluate_noop as noop  # by its module name, not __main__
     rep = run_sweep(_load(folder, n1, n2), folder / f"{name}_noop.sqlite", make(), evaluate=noop)
     return 1e3 * rep.time_s / (n1 * n2)
 
@@ -127,7 +127,7 @@ def run(quick: bool, log=None) -> dict:
         for name, make in configs:
             if name.startswith("dask"):
                 try:
-                    import distributed  # noqa: F401
+                    import distributed  # noqa: F401 - only probes that dask is installed
                 except ImportError:
                     out["runs"][name] = {"skipped": "dask[distributed] not installed"}
                     continue

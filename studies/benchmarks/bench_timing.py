@@ -124,7 +124,7 @@ def run(quick: bool = False) -> dict:
     bp = blend_path(W, BLEND)
     load0 = os.getloadavg()[0]
     try:
-        import toppra  # noqa: F401
+        import toppra  # noqa: F401 - only probes that TOPP-RA is installed
         have_toppra = True
     except ImportError:
         have_toppra = False
@@ -180,8 +180,9 @@ def format_report(R: dict) -> str:
             L.append(f"   rmtkit method='qp' (OSQP) {q['time_ms']:8.1f} ms  duration {q['duration_s']:.5f} s")
         if "toppra" in rec:
             t = rec["toppra"]
-            L.append(f"   TOPP-RA {t['time_ms']:8.2f} ms  duration {t['duration_s']:.5f} s  overshoot between grid points "
-                     f"{t['overshoot']:.2e} (speed ×{t['velocity_ratio']:.4f}, acceleration ×{t['acceleration_ratio']:.4f})")
+            L.append(f"   TOPP-RA {t['time_ms']:8.2f} ms  duration {t['duration_s']:.5f} s  "
+                     f"overshoot between grid points {t['overshoot']:.2e} "
+                     f"(speed ×{t['velocity_ratio']:.4f}, acceleration ×{t['acceleration_ratio']:.4f})")
             ok = rec["targets"]
             L.append(f"   ratios rmtkit/TOPP-RA: time {rec['time_ratio']:.3f} "
                      f"[{'PASS' if ok['time_no_more_than_toppra'] else 'MISS'}], duration {rec['duration_ratio']:.5f} "

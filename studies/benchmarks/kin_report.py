@@ -79,7 +79,8 @@ def format_report(R: dict) -> str:
             continue
         how = ("computeFrameJacobian(LOCAL_WORLD_ALIGNED) + frame placement" if key == "pinocchio"
                else "C++ ETS: ets.eval(q) + ets.jacob0(q); batch ets.eval(Q)")
-        L.append(f"   {key} {p['version']} — {how}; loop over {p['configs']:,d} configurations  [{_load_note(p['load'])}]")
+        L.append(f"   {key} {p['version']} — {how}; loop over {p['configs']:,d} configurations  "
+                 f"[{_load_note(p['load'])}]")
         L.append(f"     FK + J + |det J|   {_rates(p['loop_fk_j_manip'])}")
         L.append(f"     FK + J             {_rates(p['loop_fk_j'])}")
         if "batch_fk" in p:

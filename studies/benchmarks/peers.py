@@ -9,8 +9,9 @@ numeric DH table (standard or modified convention, joint offsets, base and tool)
   (:func:`rtb_ets`) whose ``eval``/``jacob0`` run in the toolbox's C++ extension;
 
 each used the fast way its documentation shows, plus the peers' evaluation loops that the benchmark
-times (:func:`pinocchio_loops`, :func:`rtb_loops`) and evaluates for agreement (:func:`pinocchio_batch`, :func:`rtb_batch`), and an
-independent reference: a central finite-difference geometric Jacobian (:func:`fd_jacobian`, with the
+times (:func:`pinocchio_loops`, :func:`rtb_loops`) and evaluates for agreement (:func:`pinocchio_batch`,
+:func:`rtb_batch`), and an independent reference: a central finite-difference geometric Jacobian
+(:func:`fd_jacobian`, with the
 rotation log :func:`_log_so3`).  pinocchio and roboticstoolbox are imported only inside the functions
 that need them (the optional ``bench`` extra).
 """

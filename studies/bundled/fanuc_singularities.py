@@ -175,8 +175,9 @@ def run(s: Study) -> None:
                "point (the table above shows it numerically), so that was not the cause. What the split at the "
                "wrist centre gives is a block-triangular Jacobian, whose determinant is det J11 · det J22 and "
                "factors easily: J22 gives the wrist factor sin q5; J11, the arm's 3×3 block, gives the elbow factor "
-               "a3 sin q3 − d4 cos q3 (the forearm in line with the upper arm: q3 = atan(d4/a3) = 1.4365 rad, stretched, and "
-               "1.4365 ± π rad, folded back) and the shoulder factor a1 + a2 cos q2 + a3 cos(q2+q3) + d4 sin(q2+q3) (the wrist centre "
+               "a3 sin q3 − d4 cos q3 (the forearm in line with the upper arm: q3 = atan(d4/a3) = 1.4365 rad, "
+               "stretched, and 1.4365 ± π rad, folded back) and the shoulder factor "
+               "a1 + a2 cos q2 + a3 cos(q2+q3) + d4 sin(q2+q3) (the wrist centre "
                "on the axis of joint 1, or on the 150 mm offset surface around it).")
         ok_kinds = sorted(kinds) == ["elbow", "shoulder", "wrist"]
         ok_ratio = float(np.ptp(ratio)) <= 1e-6 and abs(float(np.median(ratio)) + DH_DOCS[1][0]) <= 1e-6
@@ -211,7 +212,8 @@ def run(s: Study) -> None:
                       else "not found")
             rows.append([f.kind, f"`{f.expr}` = 0", wm.width, ws.width, None if wl is None else wl.width,
                          *shares, thesis])
-            comparison[f.kind] = {"margin": wm.width, "sigma_min": ws.width, "learned": None if wl is None else wl.width,
+            comparison[f.kind] = {"margin": wm.width, "sigma_min": ws.width,
+                                  "learned": None if wl is None else wl.width,
                                   "share_percent": dict(zip(("margin", "sigma_min", "learned"), shares))}
         s.table(["factor", "singular set", "margin ± (rad)", f"σ_min ≥ {threshold:g}: ± (rad)", "learned IK: ± (rad)",
                  "margin: share (%)", "σ_min: share (%)", "learned: share (%)", "the thesis"], rows,
@@ -329,7 +331,8 @@ def run(s: Study) -> None:
                "would take the arm that close to a singularity. The goal lies inside the σ_min "
                f"window{'s' if len(goal_in_sigma) > 1 else ''} of the {' and '.join(goal_in_sigma) or '—'} (its own "
                f"σ_min is {robot.sigma_min(goal):.3g}, but a window must keep σ_min up for every value of the joints "
-               "it does not name), so the plan goes around the **margin windows** and keeps the dexterity requirement as a "
+               "it does not name), so the plan goes around the **margin windows** and keeps the dexterity "
+               "requirement as a "
                f"**σ_min floor of {threshold:g}** checked along the path. OMPL's RRTConnect finds the path; rmtkit "
                "then proves, segment by segment, that no point of it is inside a window.")
         try:
@@ -385,7 +388,8 @@ def run(s: Study) -> None:
         k = next(i for i in range(len(roots) - 1) if roots[i] < q0[2] < roots[i + 1])
         branch_text = (f"q5 {'>' if q0[4] > 0 else '<'} 0; q3 between the elbow singularities at {roots[k]:.4g} and "
                        f"{roots[k + 1]:.4g} rad; the wrist centre on the "
-                       f"{'same side of joint 1’s axis as at q = 0' if branch['shoulder'] > 0 else 'far side of joint 1’s axis'}")
+                       + ("same side of joint 1’s axis as at q = 0" if branch["shoulder"] > 0
+                          else "far side of joint 1’s axis"))
         s.text(f"An L-shaped fillet weld on a table in front of the robot: {rep.s[-1] * 1000:.0f} mm at 10 mm/s, the "
                "torch pointing down with a 15° push angle and turning with the seam at the corner. The tool path is "
                "followed with continuous inverse kinematics from the configuration below, and every waypoint is "
@@ -394,8 +398,10 @@ def run(s: Study) -> None:
         s.table(["q1 (rad)", "q2 (rad)", "q3 (rad)", "q4 (rad)", "q5 (rad)", "q6 (rad)", "wrist: sin q5",
                  "elbow factor", "shoulder factor (m)", "same signs all along"],
                 [[*q0.tolist(), branch["wrist"], branch["elbow"], branch["shoulder"], same_branch]],
-                f"The IK branch at the first waypoint, given by the signs of the three singular factors: {branch_text}. "
-                f"{'They stay the same' if same_branch else 'They do **not** stay the same'} along the seam.", fmt=".4g")
+                f"The IK branch at the first waypoint, given by the signs of the three singular factors: "
+                f"{branch_text}. "
+                f"{'They stay the same' if same_branch else 'They do **not** stay the same'} along the seam.",
+                fmt=".4g")
         s.table(["waypoints", "length (m)", "duration (s)", "min σ_min", "min limit margin (rad)",
                  "max IK error (m)", "max joint speed (rad/s)", "in windows"],
                 [[d["waypoints"], d["length"], d["duration"], d["min_sigma"], min(d["min_limit_margin"]),

@@ -159,10 +159,12 @@ def run(s: Study) -> None:
         dev = float(np.abs(R5 - np.array(REFERENCE_R5)).max())
         s.results["configurations"] = rows
         s.results["reference_R5_deviation"] = dev
-        s.finding(f"with all five joints the correct rotation is rows {', '.join(_vec(x) for x in R5)} — docs/machines.md "
-                  f"§1 to within {dev:.1g} (printed to three decimals); the position is (0, 0, 0)", ok=dev < 5e-4)
-        s.finding(f"the thesis's method (degrees read as radians) gives rotations {min(r['angle_deg'] for r in rows):.0f}°–"
-                  f"{max(r['angle_deg'] for r in rows):.0f}° away from the correct ones for k = 1 … 5, and its \"position\" "
+        s.finding(f"with all five joints the correct rotation is rows {', '.join(_vec(x) for x in R5)} — "
+                  f"docs/machines.md §1 to within {dev:.1g} (printed to three decimals); "
+                  "the position is (0, 0, 0)", ok=dev < 5e-4)
+        s.finding(f"the thesis's method (degrees read as radians) gives rotations "
+                  f"{min(r['angle_deg'] for r in rows):.0f}°–{max(r['angle_deg'] for r in rows):.0f}° "
+                  "away from the correct ones for k = 1 … 5, and its \"position\" "
                   f"is the row sums R·(1, 1, 1)ᵀ — e.g. {_vec(rows[-1]['position_thesis'])} for five joints where the "
                   "true position is (0, 0, 0)")
 
@@ -268,9 +270,11 @@ def run(s: Study) -> None:
             part = sorted((x for x in sweep if x["stroke_factor"] == f), key=lambda x: -x["volume_m3"])
             sweep_rows.append([f"{f:g} × a2 = {f * L:.3g} m", ", ".join(f"{x['architecture']} {x['volume_m3']:.2f}"
                                                                        for x in part),
-                               ", ".join(f"{x['architecture']} {x['gci']:.2f}" for x in sorted(part, key=lambda x: -x["gci"])),
+                               ", ".join(f"{x['architecture']} {x['gci']:.2f}"
+                                         for x in sorted(part, key=lambda x: -x["gci"])),
                                sum(x["volume_m3"] > rrr["volume_m3"] for x in part)])
-        s.table(["stroke", "volume (m³), largest first", "GCI, best first", f"architectures above RRR's {rrr['volume_m3']:.2f} m³"],
+        s.table(["stroke", "volume (m³), largest first", "GCI, best first",
+                 f"architectures above RRR's {rrr['volume_m3']:.2f} m³"],
                 sweep_rows, "The non-planar architectures with a prismatic joint at three strokes (the revolute "
                             "joints keep the PUMA's ranges; RRR does not depend on the stroke).", fmt=".3g")
         s.results["stroke_sweep"] = sweep

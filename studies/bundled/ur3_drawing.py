@@ -236,11 +236,13 @@ def run(s: Study) -> None:
                "path; the closed form above is the statement about the path.")
         s.results["window_width_sweep"] = sweep
         if stuck:
-            s.finding(f"with a ±{', ±'.join(f'{w:g}' for w in stuck)}° window the follower in position mode stays in the "
+            s.finding(f"with a ±{', ±'.join(f'{w:g}' for w in stuck)}° window "
+                      "the follower in position mode stays in the "
                       "wrist window for the whole drawing although the path does not force it (the pen may tilt): its "
                       "forced-window test looks only one step ahead")
         pose_all = all(r["share_in_window"] == 1.0 for r in sweep if r["mode"] == "pose")
-        s.finding(f"at every window half-width tried ({', '.join(f'{w:g}' for w in sweep_deg)}°) pose mode stays in the "
+        s.finding(f"at every window half-width tried ({', '.join(f'{w:g}' for w in sweep_deg)}°) "
+                  "pose mode stays in the "
                   "wrist window at every waypoint: the width does not change what the path forces", ok=pose_all)
 
 

@@ -11,7 +11,6 @@ import numpy as np
 
 import kin
 
-
 EXIT_OK, EXIT_FAIL, EXIT_USAGE = 0, 1, 2
 #: seeds are 32-bit (numpy and OMPL)
 MAX_SEED = 2**32 - 1

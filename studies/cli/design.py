@@ -7,7 +7,6 @@ from pathlib import Path
 
 import kin
 from kin.output import write_output
-
 from studies.cli.common import EXIT_FAIL, EXIT_OK, MAX_SIGMA, CliInputError, bounded, seed
 from studies.jsonio import dump, jsonable
 
@@ -200,7 +199,8 @@ def add_optimise(add) -> None:
     sp.add_argument("--seed", type=seed, default=0, help="seed of the starts, sampling and IK (default 0)")
     sp.add_argument("--seeds", type=int, default=4, help="IK seeds per target in the verification")
     sp.add_argument("--samples", type=int, default=20_000, help="sampled configurations for the seed index")
-    sp.add_argument("--max-time", type=bounded(0, 86_400, "s", open_low=True), default=600.0, help="solver time budget, s (default 600)")
+    sp.add_argument("--max-time", type=bounded(0, 86_400, "s", open_low=True), default=600.0,
+                    help="solver time budget, s (default 600)")
     sp.add_argument("--out", default="out", help="output folder (default out/); writes OUT/NAME/")
     sp.add_argument("--volume", action="store_true",
                     help="also the converged workspace volume and the structural length index Q_L")

@@ -181,7 +181,8 @@ def add_commands(add) -> None:
                          "pose when the path gives orientations and the robot controls them, else position")
     g = sp.add_mutually_exclusive_group()
     g.add_argument("--margin", type=bounded(0, math.inf, "(robot file units)"), metavar="X",
-                   help="singular windows of this half-width, file units (angle for revolute factors, length otherwise)")
+                   help="singular windows of this half-width, file units "
+                        "(angle for revolute factors, length otherwise)")
     g.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S",
                    help="singular windows from a σ_min threshold (SI)")
     sp.add_argument("--naive", action="store_true",

@@ -9,7 +9,6 @@ import numpy as np
 import kin
 from kin.chain import MAX_PRISMATIC
 from kin.transforms import make_transform, rpy_to_matrix
-
 from studies.cli.common import EXIT_FAIL, EXIT_OK, CliInputError, joint_values, numbers, positions, seed
 from studies.jsonio import dump
 from studies.taskrows import require_task_rows

@@ -4,8 +4,9 @@ Every command takes ROBOT as a bundled name (``rmt robots``) or a path to a robo
 prints values in the robot file's units, and with ``--json`` prints one JSON object.  Bad input
 exits with code 2 and one line on stderr; ``rmt ik`` exits 1 when it finds no solution.
 
-Start-up is light: ``kin`` loads ``Robot`` (CasADi) on first use, and the command modules import their heavy dependencies (CasADi, OMPL, OSQP, sympy,
-matplotlib, the design layer) inside their command functions, so ``rmt --help`` and ``rmt fk``
+Start-up is light: ``kin`` loads ``Robot`` (CasADi) on first use, and the command modules import
+their heavy dependencies (CasADi, OMPL, OSQP, sympy, matplotlib, the design layer) inside their
+command functions, so ``rmt --help`` and ``rmt fk``
 load only what they use.  A new command group is one module with ``add_commands(add)``, listed in
 :data:`GROUPS`.
 """
@@ -17,7 +18,6 @@ import sys
 from typing import Sequence
 
 import kin
-
 from studies.cli import design, follow, kinematics, plan, singular, study, sweep, toolpath, urdf
 from studies.cli.common import EXIT_OK, EXIT_USAGE
 

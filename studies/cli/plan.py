@@ -13,14 +13,23 @@ import numpy as np
 import kin
 from kin.output import write_output
 from kin.transforms import make_transform, rpy_to_matrix
-
-from studies.cli.common import (MAX_SIGMA, MAX_TIME_LIMIT, CliInputError, bounded, joint_values, numbers, output_file,
-                                positions, sampled_windows_note, seed, windows_from_args)
+from studies.cli.common import (
+    MAX_SIGMA,
+    MAX_TIME_LIMIT,
+    CliInputError,
+    bounded,
+    joint_values,
+    numbers,
+    output_file,
+    positions,
+    sampled_windows_note,
+    seed,
+    windows_from_args,
+)
 from studies.jointpath import path_csv_text
 from studies.jsonio import dump, finite_or_none
 from studies.taskrows import require_task_rows
 from studies.units import joint_units
-
 
 #: the largest joint-path file read (about a million rows of six joints)
 MAX_PATH_BYTES = 100_000_000
@@ -148,8 +157,13 @@ def _keep_out(chain, args) -> list:
 
 
 def cmd_check_path(args, load_robot) -> int:
-    from planning.validate import (DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, STEP_ANGLE_RANGE, STEP_LENGTH_RANGE,
-                                   check_path)
+    from planning.validate import (
+        DEFAULT_STEP_ANGLE,
+        DEFAULT_STEP_LENGTH,
+        STEP_ANGLE_RANGE,
+        STEP_LENGTH_RANGE,
+        check_path,
+    )
     robot = require_task_rows(load_robot(args.robot))
     P = read_path_csv(robot, args.path)
     ws = windows_from_args(robot, args.margin, args.sigma_min)
@@ -204,7 +218,8 @@ def add_commands(add) -> None:
     goal.add_argument("--goal-pose", nargs=6, metavar=("X", "Y", "Z", "R", "P", "Y"),
                       help="goal tool pose, file units (fixed-axis roll-pitch-yaw): the IK branch on the start's "
                            "side of every window, nearest first")
-    sp.add_argument("--keep-out", metavar="FILE.toml", help="keep-out boxes of the work cell (TOML, see docs/cli.md, 'Keep-out files')")
+    sp.add_argument("--keep-out", metavar="FILE.toml",
+                    help="keep-out boxes of the work cell (TOML, see docs/cli.md, 'Keep-out files')")
     sp.add_argument("--keep-out-box", nargs=6, action="append", metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"),
                     help="a keep-out box for the tool point, base frame, file length unit (repeatable)")
     _window_args(sp, "seed of the planner (default 0; the windows do not depend on it)")

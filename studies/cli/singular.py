@@ -45,7 +45,8 @@ def cmd_singularities(args, load_robot) -> int:
             j = sol["joint"]
             unit = c.angle_unit if c.joints[j - 1].is_revolute else c.length_unit
             vals = ", ".join(f"{v:.6g}" for v in sol["values_file_units"]) or "none inside the limits"
-            print(f"   q{j} ∈ {{{vals}}} {unit}" + (f"   (exact, rad/m: {', '.join(sol['exact'])})" if sol["exact"] else ""))
+            print(f"   q{j} ∈ {{{vals}}} {unit}"
+                  + (f"   (exact, rad/m: {', '.join(sol['exact'])})" if sol["exact"] else ""))
         else:
             rng = ", ".join(f"{k} ∈ [{r[0]:.4g}, {r[1]:.4g}]" for k, r in sol["ranges_file_units"].items() if r)
             print(f"   a manifold: {sol['count']} sampled configurations inside the limits; {rng}")
@@ -66,7 +67,8 @@ def _windows_text(robot: kin.Robot, ws) -> str:
             lines.append(f"  {w.name}\n      within {w.width:.6g} SI of {len(w.points)} sampled points   ({w.method})")
             miss = w.detail.get("miss") or {}
             if miss.get("fresh_set_points"):
-                lines.append(f"      sampled: {miss['outside_window']} of {miss['fresh_set_points']} fresh points of the "
+                lines.append(f"      sampled: {miss['outside_window']} of {miss['fresh_set_points']} "
+                             "fresh points of the "
                              f"set lie outside it (farthest {miss['largest_distance']:.3g} SI from a sample)")
         else:
             lines.append(f"  {w.name}\n      |g(q)| ≤ {w.epsilon:.6g}   (half-width ≥ {w.width:.6g} SI, {w.method})")
@@ -180,7 +182,8 @@ def add_commands(add) -> None:
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
     g = sp.add_mutually_exclusive_group(required=True)
     g.add_argument("--margin", type=bounded(0, math.inf, "(robot file units)"), metavar="X",
-                   help="half-width in file units (angle unit for factors with a revolute joint, length unit otherwise)")
+                   help="half-width in file units "
+                        "(angle unit for factors with a revolute joint, length unit otherwise)")
     g.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S",
                    help="dexterity threshold: σ_min of the Jacobian in SI units stays ≥ S outside the windows")
     g.add_argument("--learned", action="store_true",
@@ -191,9 +194,10 @@ def add_commands(add) -> None:
     _add_exact_timeout(sp)
     sp = add("workspace", cmd_workspace, "sampled workspace: volume, reach, near-singular share, plot")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
-    sp.add_argument("--samples", type=bounded(1, MAX_SAMPLES, "", integer=True), default=100_000, help="number of joint-space samples (default 100000)")
+    sp.add_argument("--samples", type=bounded(1, MAX_SAMPLES, "", integer=True), default=100_000,
+                    help="number of joint-space samples (default 100000)")
     sp.add_argument("--method", default="sobol", choices=("sobol", "random", "grid"), help="sampling (default sobol)")
     sp.add_argument("--seed", type=seed, default=0, help="seed (default 0)")
-    sp.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S", help="near-singular threshold on σ_min (SI; default: "
-                                                                 "5 %% of the median)")
+    sp.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S",
+                    help="near-singular threshold on σ_min (SI; default: 5 %% of the median)")
     sp.add_argument("--plot", metavar="FILE.png", help="write top/front/side/isometric views")

@@ -51,6 +51,7 @@ class _Bar:
     def start(self, total: int, already: int) -> None:
         if self.show:
             import shutil
+
             from tqdm import tqdm
             self.bar = tqdm(total=total, unit="design", file=sys.stderr, ncols=shutil.get_terminal_size().columns,
                             desc="sweep" + (f" ({already} done before)" if already else ""))
@@ -105,9 +106,10 @@ def _num(x) -> str:
 
 def _design_text(sweep, best: dict) -> str:
     chain = sweep.task.robot.chain
-    pars = ", ".join(f"{k} = {v / (chain.length_scale if chain.parameters[k].kind == 'length' else chain.angle_scale):.6g}"
-                     f" {chain.length_unit if chain.parameters[k].kind == 'length' else chain.angle_unit}"
-                     for k, v in best["params"].items())
+    pars = ", ".join(
+        f"{k} = {v / (chain.length_scale if chain.parameters[k].kind == 'length' else chain.angle_scale):.6g}"
+        f" {chain.length_unit if chain.parameters[k].kind == 'length' else chain.angle_unit}"
+        for k, v in best["params"].items())
     arch = f"{best['architecture']} " if best["architecture"] else ""
     return (f"{arch}{pars}: {sweep.task.objective} {best['objective']:.6g}, "
             f"{'feasible' if best['feasible'] else 'NOT feasible'} ({best['origin']})")

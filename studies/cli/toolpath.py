@@ -68,7 +68,8 @@ def report_text(report, robot: kin.Robot) -> str:
         rows.append(("max IK error", err))
     if d["min_sigma"] is not None:
         rows.append(("min σ_min", f"{d['min_sigma']:.4g} at waypoint {d['min_sigma_index']}"))
-        rows.append(("min manipulability", f"{d['min_manipulability']:.4g} at waypoint {d['min_manipulability_index']}"))
+        rows.append(("min manipulability",
+                     f"{d['min_manipulability']:.4g} at waypoint {d['min_manipulability_index']}"))
     reach = report.reachable
     if reach.any():
         m = (np.minimum(report.q - c.lower, c.upper - report.q) / var)[reach]
@@ -137,7 +138,8 @@ def add_commands(add) -> None:
                          "of a bundled example (" + ", ".join(bundled_toolpaths()) + ")")
     g = sp.add_mutually_exclusive_group()
     g.add_argument("--margin", type=bounded(0, math.inf, "(robot file units)"), metavar="X",
-                   help="singular windows of this half-width, file units (angle for revolute factors, length otherwise)")
+                   help="singular windows of this half-width, file units "
+                        "(angle for revolute factors, length otherwise)")
     g.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S",
                    help="singular windows from a σ_min threshold (SI), and S as a σ_min floor")
     g.add_argument("--windows", metavar="FILE.json", help="singular windows saved by `rmt windows --out`")
@@ -145,8 +147,10 @@ def add_commands(add) -> None:
                     help="fail where σ_min (SI) drops below S")
     sp.add_argument("--start", nargs="+", metavar="Q",
                     help="configuration to solve the first waypoint from (the start branch), file units")
-    sp.add_argument("--seed", type=seed, default=0, help="seed of the global IK (default 0; the windows do not depend on it)")
-    sp.add_argument("--tol-position", type=bounded(0, math.inf, "(file length unit)", open_low=True), metavar="E", help="reach tolerance, file length unit (default 1e-6 m)")
+    sp.add_argument("--seed", type=seed, default=0,
+                    help="seed of the global IK (default 0; the windows do not depend on it)")
+    sp.add_argument("--tol-position", type=bounded(0, math.inf, "(file length unit)", open_low=True), metavar="E",
+                    help="reach tolerance, file length unit (default 1e-6 m)")
     sp.add_argument("--tol-orientation", type=bounded(0, math.inf, "(file angle unit)", open_low=True), metavar="E",
                     help="orientation tolerance, file angle unit (default 1e-6 rad)")
     sp.add_argument("--max-step", nargs="+", metavar="D",

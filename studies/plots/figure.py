@@ -5,10 +5,10 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from kin.output import write_output
-
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+
+from kin.output import write_output
 
 __all__ = ["save_figure", "png_bytes", "no_offsets"]
 

@@ -13,7 +13,6 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from planning.follow import joint_velocity_limits
-
 from studies.plots.figure import save_figure
 
 __all__ = ["follow_figure", "plot_follow"]

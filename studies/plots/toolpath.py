@@ -20,7 +20,6 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from planning.toolpath.check import KINDS, ToolPathReport
-
 from studies.plots.figure import save_figure
 
 __all__ = ["plot_toolpath_report"]
@@ -128,7 +127,8 @@ def plot_toolpath_report(report: ToolPathReport, robot, path: str | os.PathLike,
     floor = report.thresholds.get("sigma_min")
     if floor is not None:
         ax.axhline(floor, color=KIND_STYLE["sigma_min"][1], linestyle="--", linewidth=1.0)
-        legend.append(Line2D([], [], color=KIND_STYLE["sigma_min"][1], linestyle="--", label=f"σ_min floor {floor:.3g}"))
+        legend.append(Line2D([], [], color=KIND_STYLE["sigma_min"][1], linestyle="--",
+                             label=f"σ_min floor {floor:.3g}"))
     fin = sig[np.isfinite(sig)]
     base = 0.0 if not len(fin) else float(fin.min())
     for kind in KINDS:
@@ -151,7 +151,8 @@ def plot_toolpath_report(report: ToolPathReport, robot, path: str | os.PathLike,
         xp = X[p.index]
         for a in axes:
             a.axvline(xp, color="#000000", linestyle=":", linewidth=1.2)
-        legend.append(Line2D([], [], color="#000000", linestyle=":", label=f"first problem: {p.kind} at waypoint {p.index}"))
+        legend.append(Line2D([], [], color="#000000", linestyle=":",
+                             label=f"first problem: {p.kind} at waypoint {p.index}"))
     if N > 1:
         axes[0].set_xlim(X[0] - half, X[-1] + half)
 

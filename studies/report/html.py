@@ -107,7 +107,8 @@ def _figure(f: Figure) -> str:
     data = base64.b64encode(f.png).decode("ascii")
     alt = html.escape(f.caption or f.name)
     cap = f'<figcaption class="caption">{_inline(f.caption)}</figcaption>' if f.caption else ""
-    return f'<figure><img src="data:image/png;base64,{data}" alt="{alt}" data-name="{html.escape(f.name)}">{cap}</figure>'
+    return (f'<figure><img src="data:image/png;base64,{data}" alt="{alt}" data-name="{html.escape(f.name)}">'
+            f'{cap}</figure>')
 
 
 def _view3d(v: View3D, idx: int) -> str:

@@ -29,7 +29,6 @@ from typing import Any, Callable
 import kin
 from kin.output import fresh_directory, write_output
 from kin.robotfile import robot_path
-
 from studies.jsonio import jsonable
 from studies.report import document as rd
 from studies.report.html import render

@@ -179,10 +179,12 @@ def wrist_branches(robot: kin.Robot, poses: np.ndarray, margin: float, theta1_st
     out["reason"] = (
         f"sin θ5 = 0 exactly when the pen axis is parallel to joint 2's axis, and that axis turns with θ1 alone; "
         f"the pen tip moves in a plane with the pen held along its normal, so the wrist point w = p − d6·z moves in "
-        f"a parallel plane and θ1 stays at {round(math.degrees(sb['theta1_rad'][0]), 6) + 0.0:g}° on the start branch, the pen axis "
+        f"a parallel plane and θ1 stays at {round(math.degrees(sb['theta1_rad'][0]), 6) + 0.0:g}° "
+        "on the start branch, the pen axis "
         f"parallel to joint 2's axis: θ5 = 0 at all {len(poses)} waypoints — the path itself lies on the wrist "
         f"singular set" if out["forced"] and np.ptp(sb["theta1_rad"]) < 1e-9 else
-        f"on the start branch {sb['share_in_window']:.1%} of the waypoints have |sin θ5| ≤ sin {math.degrees(margin):g}°")
+        f"on the start branch {sb['share_in_window']:.1%} of the waypoints have "
+        f"|sin θ5| ≤ sin {math.degrees(margin):g}°")
     return out
 
 
@@ -392,7 +394,8 @@ def _explanation(out: dict) -> list[str]:
                                        "the follower in pose mode" if nv.get("forced_by_path") else ""))
     lines.append(f"The homework's naive method (J⁻¹ with axes z1…z6) reaches {nh['peak_joint_speed']:.3g} rad/s and a "
                  f"{nh['max_position_error_m']:.3g} m error. With the correct Jacobian the same method needs the "
-                 f"pseudo-inverse at {nv['pinv_steps']} step(s) (where J is exactly singular and has no inverse), then runs at "
+                 f"pseudo-inverse at {nv['pinv_steps']} step(s) (where J is exactly singular and has no inverse), "
+                 "then runs at "
                  f"condition numbers up to {nv['max_finite_condition']:.3g} and {done} "
                  f"({nv['max_position_error_m']:.3g} m open-loop drift, peak {nv['peak_joint_speed']:.3g} rad/s): the "
                  "desired twist lies in the range of J and never asks for the lost direction.")

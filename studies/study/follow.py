@@ -101,8 +101,9 @@ class MethodRun:
     ``method``, ``mode``, ``within_tolerance``, ``peak_joint_speed`` (the largest joint speed, in its
     joint's unit/s) of ``peak_joint`` (1-based: the joint that comes nearest to, or furthest over,
     its speed limit), ``max_joint_speed`` (n,), ``max_speed_ratio`` (speed over the joint's limit),
-    ``max_position_error`` (m; over the waypoints reached when the method diverged), ``max_orientation_error`` (rad: the full angle in pose mode, the
-    tool-axis angle in axis mode, None in position mode), ``waypoints_in_window``,
+    ``max_position_error`` (m; over the waypoints reached when the method diverged),
+    ``max_orientation_error`` (rad: the full angle in pose mode, the tool-axis angle in axis mode, None
+    in position mode), ``waypoints_in_window``,
     ``share_in_window``, ``windows_entered`` (``[{"window", "name", "ranges", "waypoints"}]``),
     ``min_sigma``; the follower also ``forced_steps`` (steps forced into a window: no configuration
     outside it met the next waypoint) and ``qp_status``; the naive method ``pinv_steps``,
@@ -159,7 +160,8 @@ class FollowComparison:
                  "max_joint_speed": [finite_or_none(v) for v in np.asarray(s["max_joint_speed"]) / var],
                  "max_speed_ratio": s["max_speed_ratio"],
                  "max_position_error": s["max_position_error"] / L,
-                 "max_orientation_error": None if s["max_orientation_error"] is None else s["max_orientation_error"] / A,
+                 "max_orientation_error": (None if s["max_orientation_error"] is None
+                                           else s["max_orientation_error"] / A),
                  "waypoints_in_window": s["waypoints_in_window"], "share_in_window": s["share_in_window"],
                  "windows_entered": s["windows_entered"], "min_sigma": s["min_sigma"]}
             for k in ("forced_steps", "qp_status", "pinv_steps", "first_pinv_steps", "max_finite_condition",
@@ -185,7 +187,8 @@ class FollowComparison:
                "windows": [w.name for w in ws],
                "methods": methods,
                "units": {**unit_names(c), "joints": joint_units(c), "time": "s", "sigma_min": "SI",
-                         "max_joint_speed": "per joint, file units / s", "peak_joint_speed": "the peak joint's unit / s",
+                         "max_joint_speed": "per joint, file units / s",
+                         "peak_joint_speed": "the peak joint's unit / s",
                          "max_speed_ratio": "joint speed / the joint's speed limit"}}
         return jsonable(out)
 

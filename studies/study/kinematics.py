@@ -18,10 +18,9 @@ import tomllib
 from pathlib import Path
 
 import kin
-from kin.output import write_output
 from kin.chain import DH_FIELDS, LENGTH_FIELDS, NAME_RE
 from kin.compiled import numpy_measures
-
+from kin.output import write_output
 from studies.jsonio import finite_or_none
 from studies.units import jacobian_to_file, joint_units, pose_to_file, unit_names
 

@@ -50,7 +50,8 @@ def study_report(results: dict, path: Path) -> str:
                         f"{p['length']:.4g} vs straight line {p['straight_line_length']:.4g}"
                         f"{' (blocked by a window)' if not p['straight_line_valid'] else ''}; min σ_min "
                         f"{p['min_sigma']:.3g}; dense check passed; windows "
-                        f"{'proven clear along every segment' if p.get('proven') else 'sampled'}; waypoints in plan.csv"]
+                        f"{'proven clear along every segment' if p.get('proven') else 'sampled'}; "
+                        "waypoints in plan.csv"]
         else:
             out += ["", f"plan: no path found ({p['status']})"]
     out += ["", f"report: {Path(path).resolve()}"]

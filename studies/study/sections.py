@@ -144,7 +144,6 @@ def workspace(s: Study, robot: kin.Robot, samples: int, seed: int = 0, title: st
               q_view=None, path=None, targets=None, **options):
     """The sampled functional workspace: four views (PNG) and the interactive 3-D view; returns it."""
     from design.workspace import compute_workspace
-
     from studies.plots import plot_workspace
     from studies.report.view3d import robot_view
 

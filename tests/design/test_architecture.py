@@ -8,8 +8,7 @@ import numpy as np
 import pytest
 
 import kin
-from design.architecture import (all_architectures, optimise_architectures, required_revolute,
-                                 with_joint_types)
+from design.architecture import all_architectures, optimise_architectures, required_revolute, with_joint_types
 from design.optimise import VerifySettings
 from design.task import Targets, TaskError, load_task
 from tests.dh_numpy import fk_numpy

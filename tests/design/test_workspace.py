@@ -15,11 +15,16 @@ import numpy as np
 import pytest
 
 import kin
+from design.workspace import (
+    DEFAULT_RELATIVE_THRESHOLD,
+    DEFAULT_VOXELS_ALONG_LONGEST,
+    Workspace,
+    WorkspaceError,
+    compute_workspace,
+    sample_joint_space,
+)
 from kin.errors import RmtError
 from kin.robotfile import ROBOT_DIR
-
-from design.workspace import (DEFAULT_RELATIVE_THRESHOLD, DEFAULT_VOXELS_ALONG_LONGEST, Workspace,
-                              WorkspaceError, compute_workspace, sample_joint_space)
 
 MM = 1e-3
 

@@ -20,8 +20,8 @@ OUTPUTS = ["o.json", "sub/dir/o.csv", ".", "missing/", "o.png"]
 def argv(draw):
     robot = draw(st.sampled_from(sorted(ROBOTS) + ["no_such_robot", "r.toml"]))
     n = ROBOTS.get(robot, 2)
-    q = lambda: draw(st.lists(number_text(-2, 2), min_size=n - 1, max_size=n + 1))  # noqa: E731
-    opt = lambda name, values: ([name, draw(values)] if draw(st.booleans()) else [])  # noqa: E731
+    q = lambda: draw(st.lists(number_text(-2, 2), min_size=n - 1, max_size=n + 1))
+    opt = lambda name, values: ([name, draw(values)] if draw(st.booleans()) else [])
     seed = st.one_of(st.integers(-5, 2**33).map(str), st.sampled_from(NASTY_TEXT))
     command = draw(st.sampled_from(["fk", "jacobian", "ik", "singularities", "windows", "workspace", "plan",
                                     "check-path", "show", "robots", "junk"]))

@@ -41,7 +41,7 @@ PLAN_VALUES = ["-1", "3", '"PRM*"', '"length"', "1e308"]
 @st.composite
 def robot_file(draw) -> tuple[str, int]:
     n = draw(st.integers(1, 3))
-    pick = lambda good, bad: draw(mostly(st.sampled_from(good), st.sampled_from(bad), 20))  # noqa: E731
+    pick = lambda good, bad: draw(mostly(st.sampled_from(good), st.sampled_from(bad), 20))
     lines = [f'name = "{pick(["fz", "fz_2"], ["Bad Name", ""])}"',
              f'convention = "{pick(["standard", "modified"], ["weird"])}"',
              f'length_unit = "{pick(["m", "mm", "in"], ["km"])}"',
@@ -139,7 +139,7 @@ def test_tool_paths(case, as_json):
 # ---- study files -----------------------------------------------------------------------------------
 @st.composite
 def study_file(draw) -> str:
-    pick = lambda good, bad: draw(mostly(st.sampled_from(good), st.sampled_from(bad), 10))  # noqa: E731
+    pick = lambda good, bad: draw(mostly(st.sampled_from(good), st.sampled_from(bad), 10))
     lines = [f'name = "{pick(["fz", "fz_study"], ["../up", "x y"])}"',
              f'robot = "{pick(["planar_2r", "r.toml"], ["nope"])}"']
     if draw(mostly(st.just(False), st.just(True), 8)):

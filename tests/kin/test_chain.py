@@ -10,7 +10,6 @@ import pytest
 
 import kin
 from kin.chain import Chain, Joint, Parameter, Placement
-
 from tests.chain_factory import random_chain, random_q
 from tests.dh_numpy import fk_numpy, jacobian_numpy
 
@@ -207,7 +206,8 @@ class TestParameters:
         p = np.array([1.3, -0.4, 0.6])
         q = np.array([0.3, -1.1])
         f = c.frozen(p)
-        assert f.parameters == {} and not any(isinstance(getattr(j, k), str) for j in f.joints for k in "a alpha d theta".split())
+        assert f.parameters == {} and not any(isinstance(getattr(j, k), str)
+                                              for j in f.joints for k in "a alpha d theta".split())
         np.testing.assert_allclose(fk_numpy(f, q), fk_numpy(c.with_parameters(dict(zip(c.parameter_names, p))), q),
                                    atol=1e-15)
 

@@ -23,7 +23,6 @@ import pytest
 import kin
 from kin.chain import Chain, Joint, Placement
 from kin.robotfile import ROBOT_DIR, bundled_robots, dumps_robot, load_chain, loads_robot, save_robot
-
 from tests.dh_numpy import fk_numpy, frames_numpy, jacobian_numpy
 
 DEG = math.pi / 180.0

@@ -21,7 +21,6 @@ from scipy.spatial.transform import Rotation
 
 import kin
 from kin.robotfile import load_chain
-
 from tests.dh_numpy import fk_numpy
 from tests.kin.test_robot_library import DEG, MM, assert_printed
 from tests.kin.urdf.reference import YourdfpyFk, erd_urdf

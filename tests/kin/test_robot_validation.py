@@ -87,6 +87,7 @@ def test_prismatic_values_beyond_the_evaluators_range_refused(backend, call):
     ±MAX_PRISMATIC it is refused naming the joint and the range, on the fast single path too;
     within it, and for revolute joints at any finite angle, the answer is finite and warning-free."""
     import warnings
+
     from kin.chain import MAX_PRISMATIC
     r = cnc(backend)
     f = getattr(r, call)

@@ -13,7 +13,6 @@ from scipy.spatial.transform import Rotation
 import kin
 from kin.errors import RobotFileError
 from kin.robotfile import dumps_robot, load_chain, loads_robot, save_robot
-
 from tests.dh_numpy import fk_numpy
 
 DEG = math.pi / 180
@@ -405,11 +404,13 @@ def random_robot_text(seed: int, length_unit: str, angle_unit: str, placement: s
             T = np.eye(4)
             T[:3, :3] = Rotation.from_rotvec(rng.uniform(-2, 2, 3)).as_matrix()
             T[:3, 3] = rng.uniform(-L, L, 3)
-            lines.append("matrix = [" + ", ".join("[" + ", ".join(repr(float(x)) for x in row) + "]" for row in T) + "]")
+            lines.append("matrix = ["
+                         + ", ".join("[" + ", ".join(repr(float(x)) for x in row) + "]" for row in T) + "]")
     for pname, f in params:
         s = L if f in "ad" else A
         v = rng.uniform(-s, s)
-        lines += ["", f"[parameters.{pname}]", f"value = {v!r}", f"bounds = [{v - rng.uniform(0, s)!r}, {v + rng.uniform(0, s)!r}]"]
+        lines += ["", f"[parameters.{pname}]", f"value = {v!r}",
+                  f"bounds = [{v - rng.uniform(0, s)!r}, {v + rng.uniform(0, s)!r}]"]
     return "\n".join(lines) + "\n"
 
 
@@ -449,8 +450,8 @@ def test_round_trip_strings_with_control_characters():
 @pytest.mark.parametrize("seed", range(8))
 def test_programmatic_chain_round_trip(seed):
     """A chain built in SI with display units mm/deg saves and loads back to the same FK."""
-    from tests.chain_factory import random_chain
     from kin.robotfile import with_units
+    from tests.chain_factory import random_chain
     c = with_units(random_chain(seed, params=True, name="prog"), "mm", "deg")
     c2 = loads_robot(dumps_robot(c))
     assert c2.length_unit == "mm" and c2.angle_unit == "deg"

@@ -13,7 +13,6 @@ import pytest
 import kin
 from kin.chain import Chain, Joint, Parameter, Placement
 from kin.symbolic import SymbolicChain, exact_cos_sin
-
 from tests.chain_factory import fd_jacobian, random_chain, random_q
 from tests.dh_numpy import fk_numpy, frames_numpy, jacobian_numpy
 

@@ -45,10 +45,12 @@ def test_fields_name_the_file_and_the_field():
     f = Fields("cell.toml", fail=lambda field, msg: RobotFileError(msg, "cell.toml", field))
     assert f.table({"a": 1}, "box", ("a", "b")) == {"a": 1}
     assert f.vector([1, 2.5, 3], "box.lower", 3) == [1.0, 2.5, 3.0]
-    for call, match in [(lambda: f.table({"c": 1}, "box", ("a", "b")), "cell.toml: box.c: unknown field; allowed: a, b"),
+    for call, match in [(lambda: f.table({"c": 1}, "box", ("a", "b")),
+                         "cell.toml: box.c: unknown field; allowed: a, b"),
                         (lambda: f.number(True, "box.a"), "cell.toml: box.a: must be a number, got boolean"),
                         (lambda: f.number(-1, "box.a", positive=True), "must be > 0, got -1"),
-                        (lambda: f.vector([1, 2], "box.lower", 3), "must be a list of 3 numbers, got array of length 2"),
+                        (lambda: f.vector([1, 2], "box.lower", 3),
+                         "must be a list of 3 numbers, got array of length 2"),
                         (lambda: f.integer(0, "n", 1, 5), r"n: must be an integer in \[1, 5\], got 0"),
                         (lambda: f.string(3, "kind", ("a",)), "kind: must be a string, got integer 3")]:
         with pytest.raises(RobotFileError, match=match):

@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 
 import kin
-from tests.dh_numpy import jacobian_numpy
 from kin.errors import ConfigurationError
 from planning.validate import DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, check_path, densify
 from planning.windows import build_windows
+from tests.dh_numpy import jacobian_numpy
 
 MARGIN = 0.05
 ELBOW_ROOT = math.atan2(0.74, 0.1)      # FANUC: 0.1 sin q3 − 0.74 cos q3 = 0
@@ -155,7 +155,8 @@ def test_prismatic_rows_beyond_the_evaluators_range_refused():
     P = np.array([[0.0, 0.5, -0.15], [0.0, 0.5, 1e305], [0.0, 0.5, 1e305]])
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        with pytest.raises(ConfigurationError, match=r"path: prismatic joint 3 = 1e\+305 m \(row 1\) is beyond ±1e\+06 m"):
+        with pytest.raises(ConfigurationError,
+                           match=r"path: prismatic joint 3 = 1e\+305 m \(row 1\) is beyond ±1e\+06 m"):
             check_path(robot, P, None)
         P[1:, 2] = -1e6                       # within the range: far outside the limits, reported as such
         res = check_path(robot, P[1:], None)

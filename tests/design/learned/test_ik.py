@@ -18,13 +18,12 @@ import numpy as np
 import pytest
 
 import kin
+from design.learned.ik import LearnedIK, LearnedIKError, resolve_branch
+from design.learned.windows import jsonable_report, learned_window, learned_windows
 from kin.errors import RmtError
 from kin.robotfile import ROBOT_DIR
 from kin.singular import analyse_singularities
 from planning.windows import WindowSet
-
-from design.learned.ik import LearnedIK, LearnedIKError, resolve_branch
-from design.learned.windows import jsonable_report, learned_window, learned_windows
 
 MM = 1e-3
 FRESH_SEED = 20240611          # a seed the module never uses internally for these draws

@@ -6,10 +6,10 @@ import pytest
 
 pytest.importorskip("distributed")
 
-from distributed import LocalCluster  # noqa: E402
+from distributed import LocalCluster
 
-from design.sweep import DaskExecutor, LocalExecutor, load_sweep, read_sweep, run_sweep  # noqa: E402
-from tests.design.sweep.helpers import evaluate_dying_once, write_sweep  # noqa: E402
+from design.sweep import DaskExecutor, LocalExecutor, load_sweep, read_sweep, run_sweep
+from tests.design.sweep.helpers import evaluate_dying_once, write_sweep
 
 SKIP = ("time_s", "worker", "id")
 

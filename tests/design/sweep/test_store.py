@@ -27,7 +27,8 @@ def test_new_store_is_wal_with_schema_version(tmp_path):
     assert con.execute("SELECT version FROM schema_version").fetchall() == [(SCHEMA_VERSION,)]
     assert con.execute("SELECT COUNT(*), COUNT(DISTINCT key) FROM designs").fetchone() == (7, 7)
     with pytest.raises(sqlite3.IntegrityError):
-        con.execute("INSERT INTO designs (key, architecture, params, seed) SELECT key, '', '[]', 0 FROM designs LIMIT 1")
+        con.execute("INSERT INTO designs (key, architecture, params, seed) "
+                    "SELECT key, '', '[]', 0 FROM designs LIMIT 1")
 
 
 def test_commits_are_batched_and_running_rows_reset(tmp_path):
@@ -39,7 +40,8 @@ def test_commits_are_batched_and_running_rows_reset(tmp_path):
     s.record([Outcome(ds[0].key, True, {"objective": 1.0, "score": 1.0, "feasible": True}, None, 0.1, "w"),
               Outcome(ds[1].key, False, None, "ValueError: boom", 0.1, "w")])
     other = sqlite3.connect(db)
-    assert other.execute("SELECT COUNT(*) FROM designs WHERE status = 'pending'").fetchone()[0] == 3   # not yet committed
+    # not yet committed
+    assert other.execute("SELECT COUNT(*) FROM designs WHERE status = 'pending'").fetchone()[0] == 3
     assert s.flush(force=True)
     rows = dict(other.execute("SELECT status, COUNT(*) FROM designs GROUP BY status").fetchall())
     assert rows == {"done": 1, "failed": 1, "running": 1}

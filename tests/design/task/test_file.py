@@ -52,7 +52,8 @@ def test_bundled_tasks_load(name):
     (("sigma_min = 0.05", "sigma_min = 0.05\n[constraints]\nmin_coverage = 1.5"), "constraints.min_coverage"),
     (("robot = \"studies/tasks/robots/scara_design.toml\"", "robot = \"nope\""), "robot"),
     (("shape = \"box\"", "shape = \"box\"\norientation = \"axis\""), "target.axis"),
-    (("shape = \"box\"", "shape = \"box\"\norientation = \"cone\"\naxis = [0, 0, 1]\nhalf_angle = 95"), "target.half_angle"),
+    (("shape = \"box\"", "shape = \"box\"\norientation = \"cone\"\naxis = [0, 0, 1]\nhalf_angle = 95"),
+     "target.half_angle"),
 ])
 def test_bad_fields_name_the_field(edit, field):
     with pytest.raises(TaskError) as e:

@@ -12,8 +12,16 @@ import numpy as np
 import pytest
 
 import kin
-from kin.compiled import (WANT_ALL, WANT_J, WANT_MANIP, WANT_SIGMA, WANT_T, CompiledEvaluator, default_threads,
-                          find_compiler)
+from kin.compiled import (
+    WANT_ALL,
+    WANT_J,
+    WANT_MANIP,
+    WANT_SIGMA,
+    WANT_T,
+    CompiledEvaluator,
+    default_threads,
+    find_compiler,
+)
 from kin.native import c_double, graph_table, python_extension_flags
 from tests.chain_factory import fd_jacobian, random_chain, random_q
 from tests.dh_numpy import fk_numpy, jacobian_numpy

@@ -12,7 +12,6 @@ import pytest
 
 import kin
 from kin.chain import Chain, Joint, Parameter, Placement
-
 from tests.chain_factory import fd_jacobian, random_chain, random_q
 from tests.dh_numpy import fk_numpy, jacobian_numpy
 

@@ -14,7 +14,6 @@ import pytest
 import kin
 from kin.chain import Placement
 from kin.ik.analytic import NoClosedFormError, analytic_ik, pieper_arm
-
 from tests.chain_factory import random_chain, random_q
 from tests.dh_numpy import fk_numpy
 

@@ -10,9 +10,8 @@ import numpy as np
 import pytest
 
 import kin
-from kin.ik.compiled import CompiledIK, ReachBound, compiled_ik
 from kin.compiled import find_compiler
-
+from kin.ik.compiled import CompiledIK, ReachBound, compiled_ik
 from tests.chain_factory import random_chain, random_q
 from tests.dh_numpy import fk_numpy
 

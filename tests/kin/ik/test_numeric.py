@@ -12,7 +12,6 @@ import pytest
 
 import kin
 from kin.chain import Chain, Joint
-
 from tests.chain_factory import random_q, rotvec
 from tests.dh_numpy import fk_numpy
 

@@ -14,12 +14,28 @@ import pytest
 import kin
 from kin.ik import local_ik, solve_ik
 from kin.ik.compiled import compiled_ik
-
 from tests.chain_factory import random_q
 from tests.dh_numpy import fk_numpy
 from tests.kin.ik import test_numeric
-from tests.kin.ik.test_numeric import *  # the shared checks of test_numeric.py, collected again here
-from tests.kin.ik.test_numeric import errors_numpy, robot
+from tests.kin.ik.test_numeric import (  # noqa: F401 - the test_* are test_numeric's checks, collected again here
+    errors_numpy,
+    robot,
+    test_absurdly_far_targets_fail_with_a_defined_configuration,
+    test_bad_target_shapes,
+    test_batch_shapes,
+    test_far_target_six_axis,
+    test_non_finite_target_and_bad_options,
+    test_planar_far_target_residual_closed_form,
+    test_planar_inner_hole_residual_closed_form,
+    test_planar_target_reachable_only_outside_limits,
+    test_position_mode_on_a_six_axis_arm,
+    test_position_only_targets,
+    test_q0_continuity,
+    test_q0_selects_the_planar_branch,
+    test_round_trip_every_bundled_robot,
+    test_same_seed_same_result,
+    test_scara_target_needs_prismatic_joint_beyond_its_limit,
+)
 
 
 @pytest.fixture(autouse=True, params=["compiled"])

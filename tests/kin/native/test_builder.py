@@ -75,7 +75,8 @@ _RACE = textwrap.dedent("""
     start = float(sys.argv[3])
     while time.time() < start:
         time.sleep(0.001)
-    lib = build("probe", Path(sys.argv[1]), Header("probe").define("PROBE_VALUE", 7).text(), directory=Path(sys.argv[2]))
+    lib = build("probe", Path(sys.argv[1]), Header("probe").define("PROBE_VALUE", 7).text(),
+                directory=Path(sys.argv[2]))
     print(lib.cached, ctypes.CDLL(str(lib.path)).rmt_probe_value(), lib.path)
 """)
 
@@ -108,7 +109,8 @@ def test_a_compiler_error_is_one_line(tmp_path):
 def test_the_first_error_line_is_reported(tmp_path):
     cc = wrapper(tmp_path, "echo 'In file included from x.c:1:' >&2\necho 'x.c:3:1: error: no good' >&2\n"
                            "echo '   3 | oops' >&2\necho 'compilation terminated.' >&2\nexit 1")
-    with pytest.raises(kin.CompileError, match=r"^cc \(portable build\) failed on the probe: x\.c:3:1: error: no good$"):
+    with pytest.raises(kin.CompileError,
+                       match=r"^cc \(portable build\) failed on the probe: x\.c:3:1: error: no good$"):
         build("probe", PROBE, header(), arch="portable", compiler=cc, directory=tmp_path, what="the probe")
     silent = wrapper(tmp_path, "exit 3", name="silent")
     with pytest.raises(kin.CompileError, match="exit status 3$"):
@@ -116,7 +118,8 @@ def test_the_first_error_line_is_reported(tmp_path):
 
 
 def test_a_refused_native_build_becomes_portable(tmp_path):
-    cc = wrapper(tmp_path, 'for a in "$@"; do [ "$a" = -march=native ] && { echo "error: bad -march" >&2; exit 1; }; done\n'
+    cc = wrapper(tmp_path, 'for a in "$@"; do [ "$a" = -march=native ] && '
+                           '{ echo "error: bad -march" >&2; exit 1; }; done\n'
                            f'exec {find_compiler()} "$@"')
     lib = build("probe", PROBE, header(), arch="native", compiler=cc, directory=tmp_path)
     assert lib.arch == "portable" and "_portable-" in lib.path.name and probe_value(lib.path) == 41

@@ -5,8 +5,6 @@ from __future__ import annotations
 import threading
 import time
 
-import pytest
-
 import kin
 from kin.native.lock import file_lock
 

@@ -21,7 +21,8 @@ from scipy.optimize import brentq
 import kin
 from kin.singular import KINDS, analyse_singularities
 
-ROBOTS = sorted(n for n in kin.bundled_robots() if kin.load_chain(n).n <= 6)   # exact factors; 7-joint arms: test_numeric
+# exact factors; 7-joint arms: test_numeric
+ROBOTS = sorted(n for n in kin.bundled_robots() if kin.load_chain(n).n <= 6)
 SIX_JOINT = [name for name in ROBOTS if kin.load_robot(name).n == 6]
 PI = math.pi
 

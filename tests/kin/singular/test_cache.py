@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 import kin
-from kin.singular import analysis as analysis_module
 from kin.singular import analyse_singularities, cache
+from kin.singular import analysis as analysis_module
 from kin.singular.exact import StructureError, content_key, exact_structure, validate_structure
 
 

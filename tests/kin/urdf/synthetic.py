@@ -28,7 +28,8 @@ def urdf_text(joints: list[dict], name: str = "synthetic") -> str:
     for j in joints:
         out.append(f'  <joint name="{j["name"]}" type="{j["type"]}">')
         out.append(f'    <parent link="{j["parent"]}"/><child link="{j["child"]}"/>')
-        out.append('    <origin xyz="{}" rpy="{}"/>'.format(*(" ".join(repr(float(v)) for v in j[k]) for k in ("xyz", "rpy"))))
+        out.append('    <origin xyz="{}" rpy="{}"/>'.format(
+            *(" ".join(repr(float(v)) for v in j[k]) for k in ("xyz", "rpy"))))
         if j["type"] != "fixed":
             out.append('    <axis xyz="{}"/>'.format(" ".join(repr(float(v)) for v in j["axis"])))
         if j["limits"] is not None and j["type"] in ("revolute", "prismatic"):
@@ -71,7 +72,8 @@ def random_urdf(seed: int) -> list[dict]:
         else:
             axis = rng.normal(size=3)
             axis /= np.linalg.norm(axis)
-        xyz = rng.uniform(-0.4, 0.4, 3) if rng.uniform() > 0.2 else np.zeros(3)   # sometimes through the previous origin
+        # sometimes through the previous origin
+        xyz = rng.uniform(-0.4, 0.4, 3) if rng.uniform() > 0.2 else np.zeros(3)
         rpy = rng.uniform(-3, 3, 3) if rng.uniform() > 0.4 else np.zeros(3)
         if rng.uniform() < 0.3:
             specs.append(("fixed", rng.uniform(-0.2, 0.2, 3), rng.uniform(-3, 3, 3), (0, 0, 1)))

@@ -10,7 +10,6 @@ import pytest
 
 import kin
 from kin.urdf import import_urdf
-
 from tests.chain_factory import fd_jacobian
 from tests.dh_numpy import fk_numpy
 from tests.kin.urdf.reference import YourdfpyFk
@@ -22,7 +21,7 @@ TOL = 1e-12
 
 def check_fk(path, chain, base="l0", tip=None, n_q=50, seed=0):
     """The chain's FK (numpy DH and kin.Robot) equals yourdfpy's at random configurations."""
-    tip = tip or f"l{max(int(l[1:]) for l in _links(path))}"
+    tip = tip or f"l{max(int(name[1:]) for name in _links(path))}"
     ref = YourdfpyFk(path, base, tip)
     robot = kin.Robot(chain)
     rng = np.random.default_rng(seed)

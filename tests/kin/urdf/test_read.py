@@ -7,7 +7,6 @@ import pytest
 
 from kin.errors import RmtError
 from kin.urdf import UrdfError, read_serial_chain
-
 from tests.kin.urdf.reference import YourdfpyFk
 from tests.kin.urdf.synthetic import joint, serial, urdf_text, write_urdf
 
@@ -53,9 +52,11 @@ def test_default_chain_of_a_serial_urdf(tmp_path):
 @pytest.mark.parametrize("kw, message", [
     (dict(tip="nowhere"), "tip link 'nowhere' is not defined; links: base, arm, forearm, hand, camera, pedestal"),
     (dict(base="nowhere", tip="hand"), "base link 'nowhere' is not defined"),
-    (dict(base="hand", tip="camera"), "tip link 'camera' is not below base link 'hand'; links above it: forearm, arm, base"),
+    (dict(base="hand", tip="camera"),
+     "tip link 'camera' is not below base link 'hand'; links above it: forearm, arm, base"),
     (dict(base="arm", tip="pedestal"), "tip link 'pedestal' is not below base link 'arm'"),
-    (dict(base="forearm", tip="camera"), "the chain 'forearm' → 'camera' has no revolute, continuous or prismatic joint"),
+    (dict(base="forearm", tip="camera"),
+     "the chain 'forearm' → 'camera' has no revolute, continuous or prismatic joint"),
 ])
 def test_bad_base_or_tip(tmp_path, kw, message):
     with pytest.raises(UrdfError, match=message):
@@ -89,12 +90,14 @@ def test_mimic_joint_off_the_chain_is_ignored(tmp_path):
 
 @pytest.mark.parametrize("mutate, message", [
     (lambda j: j.update(limits=None), r"joint 'j1': a revolute joint needs <limit lower=… upper=…>"),
-    (lambda j: j.update(limits=(1.0, 1.0)), r"joint 'j1': <limit> lower = 1, upper = 1 must be finite with lower < upper"),
+    (lambda j: j.update(limits=(1.0, 1.0)),
+     r"joint 'j1': <limit> lower = 1, upper = 1 must be finite with lower < upper"),
     (lambda j: j.update(limits=(-30.0, 30.0)), r"joint 'j1': <limit> \[-30, 30\] rad exceeds ±8π rad"),
     (lambda j: j.update(axis=(0, 0, 0)), r"joint 'j1': its <axis> \[0.0, 0.0, 0.0\] must be three finite numbers"),
     (lambda j: j.update(axis=(0, 0, "nan")), r"joint 'j1': its <axis> .* must be three finite numbers"),
     (lambda j: j.update(xyz=(0, "inf", 0)), r"joint 'j1': its <origin> holds a NaN or infinite value"),
-    (lambda j: j.update(type="prismatic", axis=(0, 0, 2)), r"joint 'j1': the <axis> .* of a prismatic joint must be a unit vector"),
+    (lambda j: j.update(type="prismatic", axis=(0, 0, 2)),
+     r"joint 'j1': the <axis> .* of a prismatic joint must be a unit vector"),
 ])
 def test_bad_joint_elements(tmp_path, mutate, message):
     j = joint("j1", "revolute", "a", "b")

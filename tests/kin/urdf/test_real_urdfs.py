@@ -12,7 +12,6 @@ import pytest
 
 import kin
 from kin.urdf import import_urdf, read_serial_chain
-
 from tests.kin.urdf.reference import PinocchioModel, YourdfpyFk, erd_urdf
 
 # (file inside example-robot-data's robots/, tip link) — UR's parallel axes, Panda's offsets, the

@@ -11,7 +11,6 @@ import pytest
 
 import kin
 from kin.urdf import chain_to_urdf, import_urdf, save_urdf
-
 from tests.dh_numpy import fk_numpy, jacobian_numpy
 from tests.kin.urdf.reference import PinocchioModel, YourdfpyFk
 

@@ -11,7 +11,6 @@ import pytest
 from kin.singular.expression import parse_expression, parse_tree
 from planning.certify.gradient import REL_TOL, gradient_bound, zero_free
 
-
 #: the test texts written again by hand in numpy (an independent evaluation of each)
 NUMPY = {
     "3*sin(q1) + 4*cos(q2)": lambda q: 3 * np.sin(q[0]) + 4 * np.cos(q[1]),

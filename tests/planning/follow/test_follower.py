@@ -10,7 +10,6 @@ import math
 
 import numpy as np
 import pytest
-from tests.dh_numpy import fk_numpy
 
 import kin
 from planning.follow import (
@@ -22,6 +21,7 @@ from planning.follow import (
     window_ranges,
 )
 from planning.windows import build_windows
+from tests.dh_numpy import fk_numpy
 
 
 def _errors_numpy(chain, Q, poses):

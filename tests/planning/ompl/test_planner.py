@@ -23,13 +23,13 @@ import pytest
 from scipy.optimize import brentq
 
 import kin
-from tests.dh_numpy import fk_numpy, frames_numpy, jacobian_numpy
 from planning.errors import PlanningError
 from planning.ompl.planner import plan
-from planning.validate import check_path
 from planning.ompl.validity import KeepOutBox
+from planning.validate import check_path
 from planning.windows import build_windows
 from studies.cli import main
+from tests.dh_numpy import fk_numpy, frames_numpy, jacobian_numpy
 
 MARGIN = 0.05
 STEP = math.radians(0.1)

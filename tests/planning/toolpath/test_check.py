@@ -17,11 +17,11 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import kin
-from tests.dh_numpy import fk_numpy, jacobian_numpy
 from planning.toolpath import ToolPath, ToolPathError, load_toolpath, read_toolpath_csv, read_toolpath_toml
 from planning.toolpath.check import KINDS, validate_toolpath
 from planning.windows import build_windows
 from studies.cli import main
+from tests.dh_numpy import fk_numpy, jacobian_numpy
 
 ROOT = Path(__file__).resolve().parents[3]
 DRAWING = ROOT / "studies" / "toolpaths" / "ur3_drawing.toml"

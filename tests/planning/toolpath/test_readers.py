@@ -11,7 +11,7 @@ from planning.toolpath import ToolPathError, parse_toolpath_csv, parse_toolpath_
 
 
 class _Units:            # a robot stand-in: only the units are read
-    class chain:
+    class chain:  # noqa: N801 - stands in for Robot.chain, the attribute the readers read
         length_unit, angle_unit = "mm", "deg"
 
 
@@ -32,7 +32,8 @@ HEAD = 'feed = 10.0\n[start]\nxyz = [0.0, 0.0, 0.0]\n'
 
 
 @pytest.mark.parametrize("body,field,words", [
-    ('[[segments]]\ntype = "line"\nto = [100.0, 0.0, 0.0]\nstep = 1e-300\n', "segments[0]", "more than 5000000 waypoints"),
+    ('[[segments]]\ntype = "line"\nto = [100.0, 0.0, 0.0]\nstep = 1e-300\n', "segments[0]",
+     "more than 5000000 waypoints"),
     ('[[segments]]\ntype = "line"\nto = [1e308, 0.0, 0.0]\npoints = 2\n', "segments[0].to", "within ±1e+07"),
     ('[[segments]]\ntype = "line"\nto = [100.0, 0.0, 0.0]\npoints = 2\nfeed = 1e-300\n', "segments[0].feed",
      "outside the allowed range"),

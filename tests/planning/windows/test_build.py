@@ -73,7 +73,7 @@ def test_interval_window_boundary(name):
 
 def _crossing(g, q0, n, target, t_step, t_max):
     """Smallest t > 0 with |g(q0 + t·n)| = target (first bracket on a fine step, then Brent)."""
-    h = lambda t: abs(float(g((q0 + t * n)[None])[0])) - target   # noqa: E731
+    h = lambda t: abs(float(g((q0 + t * n)[None])[0])) - target
     t0 = 0.0
     while t0 < t_max:
         t1 = t0 + t_step

@@ -105,6 +105,7 @@ def test_wrong_shapes_and_types_raise():
 
 def test_every_window_is_a_window_base():
     import numpy as np
+
     from planning.windows import PointSetWindow, Window, WindowBase
     w = Window("wrist: sin(q5)", "wrist", "sin(q5)", (5,), 0.05, "margin", 6, intervals=[(-0.05, 0.05)])
     p = PointSetWindow("other: x", "other", "x", (2, 3), 0.05, "margin", 6, points=np.zeros((1, 2)))

@@ -12,7 +12,6 @@ from planning.validate import check_path
 from planning.windows import WindowSet, build_windows
 
 
-
 def test_windows_of_another_robot_with_the_same_name_are_refused():
     fanuc = kin.load_robot("fanuc_m16ib20")
     text = kin.dumps_robot(fanuc.chain)

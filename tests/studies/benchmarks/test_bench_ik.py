@@ -8,7 +8,6 @@ import numpy as np
 
 import kin
 from studies.benchmarks import bench_ik
-
 from tests.chain_factory import random_chain, random_q
 from tests.dh_numpy import fk_numpy
 

@@ -9,8 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from tests.studies.bundled.common import assert_report_renders, quick_run
 from tests.dh_numpy import dh_standard
+from tests.studies.bundled.common import assert_report_renders, quick_run
 
 #: docs/machines.md §3: rows (a, α, d) in m and rad, and the joint limits
 DH = [(0.150, -math.pi / 2, 0.525), (0.770, 0.0, 0.0), (0.100, math.pi / 2, 0.0),

@@ -137,8 +137,9 @@ def test_window_width_does_not_change_what_the_path_forces(run):
 def test_report_holds_the_numbers_and_the_plots(run):
     report, d = run.report, run.results
     m = d["methods"]
-    assert_report_holds(report, d, (f"{N}/{N} waypoints", "forced by the path", "not forced", "θ5 = 0 at all 5001 waypoints",
-                 f"{m['naive_homework']['peak_joint_speed_rad_s']:.3g}", "ur3_homework_pen.toml"),
+    assert_report_holds(report, d, (f"{N}/{N} waypoints", "forced by the path", "not forced",
+                                    "θ5 = 0 at all 5001 waypoints",
+                                    f"{m['naive_homework']['peak_joint_speed_rad_s']:.3g}", "ur3_homework_pen.toml"),
                         ("theta5_along_drawing.png", "drawn.png", "speeds_and_errors.png"))
 
 

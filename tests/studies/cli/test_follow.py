@@ -13,11 +13,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from tests.dh_numpy import fk_numpy
 
 import kin
 from studies.cli import main
 from studies.toolpaths import TOOLPATH_DIR
+from tests.dh_numpy import fk_numpy
 
 PEN_Q = ["0", "0", repr(math.pi / 2), repr(-math.pi / 2), "0", "0"]     # the drawing's singular start (rad)
 MARGIN = repr(math.radians(5.0))                                          # ±5° windows, as the study's

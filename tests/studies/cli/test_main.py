@@ -63,8 +63,8 @@ def test_interrupt_while_running_is_one_line(capsys, monkeypatch):
 
 
 def test_follow_modes_are_the_followers():
-    from planning.follow import MODES as follower_modes
-    assert tuple(MODES) == tuple(follower_modes)
+    from planning.follow import MODES as FOLLOWER_MODES
+    assert tuple(MODES) == tuple(FOLLOWER_MODES)
 
 
 @pytest.mark.parametrize("argv", [["fk"], ["nonsense"], ["fk", "puma560", "x", "0", "0", "0", "0", "0"]])

@@ -9,7 +9,6 @@ import pytest
 
 import kin
 from studies.cli import main
-
 from tests.dh_numpy import fk_numpy
 from tests.kin.urdf.reference import YourdfpyFk, erd_urdf
 

@@ -10,10 +10,10 @@ import math
 
 import numpy as np
 import pytest
-from tests.dh_numpy import fk_numpy
 
 from planning.windows import build_windows
 from studies.study.drawing import START_Q, drawing_path, homework_jacobian, pen_robot, run_drawing_study
+from tests.dh_numpy import fk_numpy
 
 
 def _errors_numpy(chain, Q, poses):

@@ -9,7 +9,6 @@ import math
 
 import numpy as np
 import pytest
-from tests.dh_numpy import fk_numpy
 
 import kin
 from planning.toolpath import load_toolpath
@@ -23,6 +22,7 @@ from studies.study.follow import (
     start_configuration,
 )
 from studies.toolpaths import toolpath_file
+from tests.dh_numpy import fk_numpy
 
 
 @pytest.fixture(scope="module")
@@ -39,8 +39,8 @@ def scara_run(scara):
 
 
 def test_modes_are_the_followers():
-    from planning.follow import MODES as follower_modes
-    assert tuple(MODES) == tuple(follower_modes)
+    from planning.follow import MODES as FOLLOWER_MODES
+    assert tuple(MODES) == tuple(FOLLOWER_MODES)
 
 
 def test_the_task_a_path_asks(scara):

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 
-
 from studies.cli import main
 
 # scara_rrp: the boundary window around q2 = 0 splits the joint space; start q2 > 0, goal q2 < 0
@@ -46,7 +45,8 @@ def test_failed_plan_exits_1_with_strict_json(tmp_path, capsys):
     # the split is real: no configuration with q2 in the window is valid, so no path can cross it
     [w] = [w for w in d["windows"]["windows"] if w["joints"] == [2]]
     assert w["intervals"][0][0] <= 0.0 <= w["intervals"][0][1]
-    assert _tree(tmp_path / "out") == ["scara_split", "scara_split/report.html", "scara_split/results.json", "scara_split/workspace.png"]
+    assert _tree(tmp_path / "out") == ["scara_split", "scara_split/report.html", "scara_split/results.json",
+                                       "scara_split/workspace.png"]
 
 
 def test_interrupted_run_keeps_the_old_results(tmp_path, capsys, monkeypatch):
@@ -64,7 +64,8 @@ def test_interrupted_run_keeps_the_old_results(tmp_path, capsys, monkeypatch):
     assert main(["study", str(p), "--out", str(tmp_path / "out")]) == 130
     capsys.readouterr()
     assert {f: (run / f).read_bytes() for f in before} == before
-    assert _tree(tmp_path / "out") == ["scara_split", "scara_split/report.html", "scara_split/results.json", "scara_split/workspace.png"]
+    assert _tree(tmp_path / "out") == ["scara_split", "scara_split/report.html", "scara_split/results.json",
+                                       "scara_split/workspace.png"]
 
 
 def test_study_refuses_to_replace_foreign_files(tmp_path, capsys):
