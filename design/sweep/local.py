@@ -20,6 +20,7 @@ from typing import Callable, Iterator
 
 from design.sweep.evaluate import Outcome, SweepJob, evaluate_chunk
 from design.sweep.space import Design
+from kin.errors import ArgumentError
 
 __all__ = ["LocalExecutor", "thread_environment", "lost_chunk"]
 
@@ -68,7 +69,7 @@ class LocalExecutor:
     def __init__(self, workers: int = 1, threads: int = 1, start_method: str = "spawn", in_flight: int = 2,
                  max_tries: int = 3):
         if start_method not in ("spawn", "forkserver"):
-            raise ValueError(f"start method {start_method!r}: spawn or forkserver")
+            raise ArgumentError(f"start method {start_method!r} unknown; allowed: spawn, forkserver")
         self.workers, self.threads, self.start_method = workers, threads, start_method
         self.in_flight, self.max_tries = in_flight, max_tries
 

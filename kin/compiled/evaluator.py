@@ -31,7 +31,7 @@ import casadi as ca
 import numpy as np
 
 from kin.chain import MAX_PRISMATIC
-from kin.errors import CompileError, OutBufferError
+from kin.errors import ArgumentError, CompileError, OutBufferError
 from kin.native import Header, build, default_threads, find_compiler, graph_table, python_extension_flags
 from kin.symbolic import SymbolicChain
 
@@ -300,7 +300,7 @@ def make_evaluator(sym: SymbolicChain, backend: str = "auto") -> Evaluator:
     :class:`CompileError` instead of falling back) or ``"vm"``.
     """
     if backend not in ("auto", "compiled", "vm"):
-        raise ValueError(f"backend {backend!r} unknown; allowed: auto, compiled, vm")
+        raise ArgumentError(f"backend {backend!r} unknown; allowed: auto, compiled, vm")
     if backend == "vm":
         return VMEvaluator(sym)
     compiler = find_compiler()

@@ -35,7 +35,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from kin.errors import CompileError
+from kin.errors import ArgumentError, CompileError
 from kin.native.lock import file_lock
 from kin.native.settings import ARCH_FLAGS, cache_dir, compiler_identity, cpu_fingerprint, find_compiler, requested_arch
 
@@ -93,7 +93,7 @@ def build(kernel: str, source: Path, header: str = "", *, flags: Sequence[str] =
     source = Path(source)
     arch = arch or requested_arch()
     if arch not in ARCH_FLAGS:
-        raise ValueError(f"arch {arch!r} unknown; allowed: {', '.join(ARCH_FLAGS)}")
+        raise ArgumentError(f"arch {arch!r} unknown; allowed: {', '.join(ARCH_FLAGS)}")
     args = (kernel, source, header, tuple(flags), tuple(key))
     if arch != "portable":
         try:

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from kin.errors import ArgumentError
 from planning.toolpath.model import ToolPath
 from planning.windows import WindowSet
 
@@ -109,7 +110,7 @@ class ToolPathReport:
                 m |= self.flags[k]
             return np.nonzero(m)[0]
         if kind not in KINDS:
-            raise ValueError(f"problem kind {kind!r} unknown; allowed: {', '.join(KINDS)}")
+            raise ArgumentError(f"problem kind {kind!r} unknown; allowed: {', '.join(KINDS)}")
         return np.nonzero(self.flags[kind])[0]
 
     def _min(self, a: np.ndarray) -> tuple[float | None, int | None]:

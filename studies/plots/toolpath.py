@@ -19,6 +19,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
+from kin.errors import ArgumentError
 from planning.toolpath.check import KINDS, ToolPathReport
 from studies.plots.figure import save_figure
 
@@ -47,11 +48,11 @@ def plot_toolpath_report(report: ToolPathReport, robot, path: str | os.PathLike,
     a path along which the tool point does not move is drawn against the waypoint index.
     """
     if not isinstance(report, ToolPathReport):
-        raise TypeError(f"report must be a ToolPathReport; got {type(report).__name__}")
+        raise ArgumentError(f"report must be a ToolPathReport; got {type(report).__name__}")
     chain = robot.chain
     n = chain.n
     if x not in ("auto", "s", "t"):
-        raise ValueError(f"x {x!r} unknown; allowed: auto, s, t")
+        raise ArgumentError(f"x {x!r} unknown; allowed: auto, s, t")
     if x == "t" and report.t is None:
         x = "s"
     if x == "t":

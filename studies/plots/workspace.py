@@ -15,6 +15,7 @@ from matplotlib.lines import Line2D
 from matplotlib.ticker import MaxNLocator
 
 from design.workspace import Workspace
+from kin.errors import ArgumentError
 from studies.plots.figure import save_figure
 
 __all__ = ["plot_workspace", "MAX_DRAWN_POINTS"]
@@ -62,7 +63,7 @@ def plot_workspace(ws: Workspace, path: str | os.PathLike, title: str = "") -> P
     length unit with equal aspect.
     """
     if not isinstance(ws, Workspace):
-        raise TypeError(f"ws must be a design.workspace.Workspace; got {type(ws).__name__}")
+        raise ArgumentError(f"ws must be a design.workspace.Workspace; got {type(ws).__name__}")
     P = ws.positions / ws.length_scale
     near = np.asarray(ws.near_singular, dtype=bool)
     N = len(P)

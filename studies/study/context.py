@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 import kin
+from kin.errors import ArgumentError
 from kin.output import fresh_directory, write_output
 from kin.robotfile import robot_path
 from studies.jsonio import jsonable
@@ -165,9 +166,9 @@ class Study:
 
     def _file_name(self, name: str) -> str:
         if not _FILE_NAME.match(name) or name in ("report.html", "results.json"):
-            raise ValueError(f"study file name {name!r}: letters, digits, '_', '.', '-' only, not a reserved name")
+            raise ArgumentError(f"study file name {name!r}: letters, digits, '_', '.', '-' only, not a reserved name")
         if name in self.files:
-            raise ValueError(f"study file name {name!r} is used twice")
+            raise ArgumentError(f"study file name {name!r} is used twice")
         return name
 
     # ---------------------------------------------------------------------------------- output
