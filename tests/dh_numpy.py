@@ -118,3 +118,15 @@ def jacobian_numpy(chain, q) -> np.ndarray:
         else:
             J[:3, i] = z
     return J
+
+
+def pose_errors_numpy(chain, Q, poses) -> tuple[np.ndarray, np.ndarray]:
+    """Position error (m) and rotation angle (rad) between :func:`fk_numpy` of each configuration of
+    ``Q`` and the matching 4×4 pose of ``poses``."""
+    pe, oe = [], []
+    for q, T in zip(Q, poses):
+        F = fk_numpy(chain, q)
+        pe.append(np.linalg.norm(F[:3, 3] - T[:3, 3]))
+        c = np.clip((np.trace(T[:3, :3].T @ F[:3, :3]) - 1) / 2, -1, 1)
+        oe.append(float(np.arccos(c)))
+    return np.array(pe), np.array(oe)

@@ -21,18 +21,7 @@ from planning.follow import (
     window_ranges,
 )
 from planning.windows import build_windows
-from tests.dh_numpy import fk_numpy
-
-
-def _errors_numpy(chain, Q, poses):
-    """Position error (m) and rotation angle (rad) with the numpy DH re-implementation."""
-    pe, oe = [], []
-    for q, T in zip(Q, poses):
-        F = fk_numpy(chain, q)
-        pe.append(np.linalg.norm(F[:3, 3] - T[:3, 3]))
-        c = np.clip((np.trace(T[:3, :3].T @ F[:3, :3]) - 1) / 2, -1, 1)
-        oe.append(math.acos(c))
-    return np.array(pe), np.array(oe)
+from tests.dh_numpy import pose_errors_numpy
 
 
 def _min_jerk_line(robot, q0, delta, duration=2.0, N=501):
@@ -57,7 +46,7 @@ def test_tracking_error_on_a_nonsingular_line(fanuc):
     res = follow_path(fanuc, (poses, t), q0)
     assert res.q.shape == (len(t), 6)
     assert np.all(fanuc.sigma_min(res.q) > 0.3)           # the line stays away from singularities
-    pe, oe = _errors_numpy(fanuc.chain, res.q, poses)
+    pe, oe = pose_errors_numpy(fanuc.chain, res.q, poses)
     assert pe.max() <= 1e-4
     assert oe.max() <= 1e-4
     assert res.max_tracking_error == pytest.approx(pe.max(), abs=1e-9)

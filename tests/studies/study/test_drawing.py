@@ -13,18 +13,7 @@ import pytest
 
 from planning.windows import build_windows
 from studies.study.drawing import START_Q, drawing_path, homework_jacobian, pen_robot, run_drawing_study
-from tests.dh_numpy import fk_numpy
-
-
-def _errors_numpy(chain, Q, poses):
-    """Position error (m) and rotation angle (rad) with the numpy DH re-implementation."""
-    pe, oe = [], []
-    for q, T in zip(Q, poses):
-        F = fk_numpy(chain, q)
-        pe.append(np.linalg.norm(F[:3, 3] - T[:3, 3]))
-        c = np.clip((np.trace(T[:3, :3].T @ F[:3, :3]) - 1) / 2, -1, 1)
-        oe.append(math.acos(c))
-    return np.array(pe), np.array(oe)
+from tests.dh_numpy import pose_errors_numpy
 
 
 @pytest.fixture(scope="module")
@@ -80,7 +69,7 @@ def test_qp_completes_the_drawing_within_tolerance(pen, drawing):
     # independent check of the run's errors on every 10th waypoint, with the numpy DH
     poses, _, _ = drawing_path(pen, START_Q)
     Q = drawing["series"]["qp_pose"]["q"]
-    pe, oe = _errors_numpy(pen.chain, Q[::10], poses[::10])
+    pe, oe = pose_errors_numpy(pen.chain, Q[::10], poses[::10])
     assert pe.max() <= tol_p and oe.max() <= tol_o
     assert pe.max() == pytest.approx(drawing["series"]["qp_pose"]["position_error"][::10].max(), abs=1e-12)
     # speed limits: default π rad/s
