@@ -93,10 +93,25 @@ def joint_values(robot: kin.Robot, values: Sequence[str], what: str = "joint val
     return robot.chain.to_si(q)
 
 
-def windows_from_args(robot: kin.Robot, margin: float | None, sigma_min: float | None):
+def window_width_args(sp, required: bool = False,
+                      sigma_help: str = "singular windows from a σ_min threshold (SI)"):
+    """Add ``--margin X | --sigma-min S``, the inputs of :func:`windows_from_args`, to a command's
+    parser; returns their mutually exclusive group (a command may add another width source to it)."""
+    g = sp.add_mutually_exclusive_group(required=required)
+    g.add_argument("--margin", type=bounded(0, math.inf, "(robot file units)"), metavar="X",
+                   help="singular windows of this half-width, file units "
+                        "(angle for factors with a revolute joint, length otherwise)")
+    g.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S", help=sigma_help)
+    return g
+
+
+def windows_from_args(robot: kin.Robot, margin: float | None, sigma_min: float | None,
+                      exact_timeout: float | None = None):
     """Windows from ``--margin`` (file units) or ``--sigma-min`` (SI threshold); None when neither.
     The same for every command and seed (:func:`planning.windows.build_windows`); built once per
-    robot content and width and then read from the cache (:mod:`planning.windows.cache`)."""
+    robot content and width and then read from the cache (:mod:`planning.windows.cache`) — unless
+    ``exact_timeout`` (s) sets another budget for the exact analysis: then built without the cache,
+    whose files are made under the default budget."""
     if margin is None and sigma_min is None:
         return None
     if margin is not None and not (math.isfinite(margin) and margin >= 0):
@@ -108,12 +123,16 @@ def windows_from_args(robot: kin.Robot, margin: float | None, sigma_min: float |
         from planning.windows import build_windows
         from planning.windows.build import WINDOW_SAMPLES, WINDOW_SEED
         from studies.cli.progress import TerminalProgress
+        budget = {} if exact_timeout is None else {"exact_timeout": exact_timeout}
         with TerminalProgress() as progress:
-            analysis = analyse_singularities(robot, samples=WINDOW_SAMPLES, seed=WINDOW_SEED, progress=progress)
+            analysis = analyse_singularities(robot, samples=WINDOW_SAMPLES, seed=WINDOW_SEED, progress=progress,
+                                             **budget)
         if margin is not None:
             from studies.study.windows import factor_margins
             return build_windows(robot, margin=factor_margins(robot.chain, analysis, margin), analysis=analysis)
         return build_windows(robot, sigma_min=sigma_min, analysis=analysis)
+    if exact_timeout is not None:
+        return build()
     request = {"margin": float(margin)} if margin is not None else {"sigma_min": float(sigma_min)}
     return cached(robot, request, build, unstored=lambda text: print(f"note: {text}", file=sys.stderr))
 

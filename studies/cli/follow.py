@@ -10,11 +10,11 @@ import math
 from studies.cli.common import (
     EXIT_FAIL,
     EXIT_OK,
-    MAX_SIGMA,
     CliInputError,
     bounded,
     output_file,
     sampled_windows_note,
+    window_width_args,
     windows_from_args,
 )
 from studies.jsonio import dump
@@ -179,12 +179,7 @@ def add_commands(add) -> None:
     sp.add_argument("--mode", choices=MODES,
                     help="task: pose (6 DOF), axis (position and tool z axis, 5 DOF) or position (3 DOF); default: "
                          "pose when the path gives orientations and the robot controls them, else position")
-    g = sp.add_mutually_exclusive_group()
-    g.add_argument("--margin", type=bounded(0, math.inf, "(robot file units)"), metavar="X",
-                   help="singular windows of this half-width, file units "
-                        "(angle for revolute factors, length otherwise)")
-    g.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S",
-                   help="singular windows from a σ_min threshold (SI)")
+    window_width_args(sp)
     sp.add_argument("--naive", action="store_true",
                     help="also run the naive resolved-rate method q += J⁻¹·ẋ·Δt on the same task, for comparison")
     sp.add_argument("--tol-position", type=bounded(0, math.inf, "(file length unit)", open_low=True), metavar="E",

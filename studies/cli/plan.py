@@ -24,6 +24,7 @@ from studies.cli.common import (
     positions,
     sampled_windows_note,
     seed,
+    window_width_args,
     windows_from_args,
 )
 from studies.jointpath import path_csv_text
@@ -201,11 +202,7 @@ def cmd_check_path(args, load_robot) -> int:
 
 
 def _window_args(sp, seed_help: str) -> None:
-    g = sp.add_mutually_exclusive_group()
-    g.add_argument("--margin", type=bounded(0, math.inf, "(robot file units)"), metavar="X",
-                   help="windows of this half-width, file units (angle for revolute factors, length otherwise)")
-    g.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S",
-                   help="windows from a σ_min threshold (SI)")
+    window_width_args(sp)
     sp.add_argument("--seed", type=seed, default=0, help=seed_help)
 
 

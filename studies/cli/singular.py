@@ -2,10 +2,16 @@
 the (functional) workspace of a robot."""
 from __future__ import annotations
 
-import math
-
 import kin
-from studies.cli.common import MAX_SIGMA, CliInputError, bounded, output_file, seed, windows_from_args
+from studies.cli.common import (
+    MAX_SIGMA,
+    CliInputError,
+    bounded,
+    output_file,
+    seed,
+    window_width_args,
+    windows_from_args,
+)
 from studies.jsonio import dump
 from studies.taskrows import require_task_rows
 from studies.units import joint_value_to_file
@@ -14,12 +20,12 @@ from studies.units import joint_value_to_file
 MAX_SAMPLES = 10_000_000
 
 
-def _analyse(robot, args, seed: int | None = None):
+def _analyse(robot, args):
     from kin.singular import analyse_singularities
     from studies.cli.progress import TerminalProgress
     budget = {} if args.exact_timeout is None else {"exact_timeout": args.exact_timeout}
     with TerminalProgress() as progress:
-        return analyse_singularities(robot, seed=args.seed if seed is None else seed, progress=progress, **budget)
+        return analyse_singularities(robot, seed=args.seed, progress=progress, **budget)
 
 
 def cmd_singularities(args, load_robot) -> int:
@@ -88,18 +94,8 @@ def cmd_windows(args, load_robot) -> int:
     robot = require_task_rows(load_robot(args.robot))
     c = robot.chain
     reports = None
-    if not args.learned and args.exact_timeout is None:     # as plan and check-path build them (cached)
-        ws = windows_from_args(robot, args.margin, args.sigma_min)
-    elif not args.learned:
-        from planning.windows import build_windows
-        from planning.windows.build import WINDOW_SEED
-        # margin and σ_min windows come from the analysis with the windows' own seed, whatever --seed says
-        analysis = _analyse(robot, args, seed=WINDOW_SEED)
-        if args.margin is not None:
-            from studies.study.windows import factor_margins
-            ws = build_windows(robot, margin=factor_margins(c, analysis, args.margin), analysis=analysis)
-        else:
-            ws = build_windows(robot, sigma_min=args.sigma_min, analysis=analysis)
+    if not args.learned:     # as plan and check-path build them, whatever --seed says
+        ws = windows_from_args(robot, args.margin, args.sigma_min, args.exact_timeout)
     else:
         analysis = _analyse(robot, args)
         if analysis.method != "exact":
@@ -180,12 +176,8 @@ def add_commands(add) -> None:
     _add_exact_timeout(sp)
     sp = add("windows", cmd_windows, "singular error windows around every factor of the singular set")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
-    g = sp.add_mutually_exclusive_group(required=True)
-    g.add_argument("--margin", type=bounded(0, math.inf, "(robot file units)"), metavar="X",
-                   help="half-width in file units "
-                        "(angle unit for factors with a revolute joint, length unit otherwise)")
-    g.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S",
-                   help="dexterity threshold: σ_min of the Jacobian in SI units stays ≥ S outside the windows")
+    g = window_width_args(sp, required=True, sigma_help="dexterity threshold: σ_min of the Jacobian in SI units "
+                                                        "stays ≥ S outside the windows")
     g.add_argument("--learned", action="store_true",
                    help="learned-IK windows: widths from a learned IK model's error at singular poses")
     sp.add_argument("--out", metavar="FILE.json", help="save the windows (SI units) to a JSON file")

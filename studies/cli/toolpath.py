@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 import kin
-from studies.cli.common import MAX_SIGMA, bounded, numbers, output_file, seed, windows_from_args
+from studies.cli.common import MAX_SIGMA, bounded, numbers, output_file, seed, window_width_args, windows_from_args
 from studies.taskrows import require_task_rows
 from studies.toolpaths import bundled_toolpaths, toolpath_file
 from studies.units import joint_units
@@ -136,12 +136,7 @@ def add_commands(add) -> None:
     sp.add_argument("toolpath", metavar="TOOLPATH",
                     help="tool path: .csv (waypoints) or .toml (segments), in the robot file's units; or the name "
                          "of a bundled example (" + ", ".join(bundled_toolpaths()) + ")")
-    g = sp.add_mutually_exclusive_group()
-    g.add_argument("--margin", type=bounded(0, math.inf, "(robot file units)"), metavar="X",
-                   help="singular windows of this half-width, file units "
-                        "(angle for revolute factors, length otherwise)")
-    g.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S",
-                   help="singular windows from a σ_min threshold (SI), and S as a σ_min floor")
+    g = window_width_args(sp, sigma_help="singular windows from a σ_min threshold (SI), and S as a σ_min floor")
     g.add_argument("--windows", metavar="FILE.json", help="singular windows saved by `rmt windows --out`")
     sp.add_argument("--sigma-floor", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S",
                     help="fail where σ_min (SI) drops below S")
