@@ -12,6 +12,7 @@ import numpy as np
 
 from kin.singular import SingularComponent, SingularFactor, SingularityAnalysis, analyse_singularities
 from kin.singular.exact import content_key
+from kin.validation import real
 from planning.certify.gradient import gradient_bound, zero_free
 from planning.certify.intervals import IntervalError
 from planning.errors import WindowError
@@ -327,16 +328,6 @@ def _canonical(robot, analysis: SingularityAnalysis | None, needs_samples: bool)
     return analysis
 
 
-def _number(x, what: str, allowed: str, low: float, strict: bool = False) -> float:
-    """A real, finite number ≥ ``low`` (> with ``strict``) as a float (−0 read as 0), or WindowError."""
-    if isinstance(x, (bool, str, bytes)) or not isinstance(x, (int, float, np.integer, np.floating)):
-        raise WindowError(f"{what} must be a number {allowed}, got {type(x).__name__} {x!r}")
-    v = float(x) + 0.0
-    if not math.isfinite(v) or v < low or (strict and v == low):
-        raise WindowError(f"{what} {v!r} must be a finite number {allowed}")
-    return v
-
-
 def build_windows(robot, margin: float | Sequence[float] | None = None, sigma_min: float | None = None,
                   manipulability: float | None = None, analysis: SingularityAnalysis | None = None) -> WindowSet:
     """Windows for every singular factor of ``robot``; exactly one width source must be given.
@@ -359,12 +350,13 @@ def build_windows(robot, margin: float | Sequence[float] | None = None, sigma_mi
         widths = list(margin) if isinstance(margin, (list, tuple, np.ndarray)) else [margin] * len(factors)
         if len(widths) != len(factors):
             raise WindowError(f"{len(widths)} margins given for {len(factors)} singular factors")
-        widths = [_number(w, "margin", "≥ 0 (rad for revolute, m for prismatic)", low=0.0) for w in widths]
+        widths = [real(w, "margin (rad for revolute, m for prismatic joints)", 0.0, error=WindowError)
+                  for w in widths]
         method, detail = "margin", {}
     else:
         method = "sigma_min" if sigma_min is not None else "manipulability"
-        threshold = _number(sigma_min if sigma_min is not None else manipulability, method, "> 0 (SI)", low=0.0,
-                            strict=True)
+        threshold = real(sigma_min if sigma_min is not None else manipulability, f"{method} (SI)", 0.0,
+                         low_open=True, error=WindowError)
         if analysis.method != "exact":     # the margins absorb points into the components: work on a copy
             analysis = copy.deepcopy(analysis)
             factors = analysis.factors

@@ -387,15 +387,16 @@ def test_windows_do_not_depend_on_the_analysis_seed_or_sample_count():
 
 
 @pytest.mark.parametrize("kwargs, match", [
-    ({"margin": "0.05"}, "margin must be a number ≥ 0.*got str"),
-    ({"margin": True}, "margin must be a number.*got bool"),
-    ({"margin": 1 + 0j}, "margin must be a number.*got complex"),
-    ({"margin": float("nan")}, "margin nan must be a finite number"),
-    ({"margin": -0.1}, "margin -0.1 must be a finite number ≥ 0"),
-    ({"sigma_min": "0.02"}, "sigma_min must be a number > 0.*got str"),
-    ({"sigma_min": True}, "sigma_min must be a number.*got bool"),
-    ({"sigma_min": 0.0}, "sigma_min 0.0 must be a finite number > 0"),
-    ({"manipulability": float("inf")}, "manipulability inf must be a finite number > 0"),
+    ({"margin": "0.05"},
+     r"margin \(rad for revolute, m for prismatic joints\) must be a finite number ≥ 0, got string"),
+    ({"margin": True}, r"margin \(.*\) must be a finite number ≥ 0, got boolean"),
+    ({"margin": 1 + 0j}, r"margin \(.*\) must be a finite number ≥ 0, got complex"),
+    ({"margin": float("nan")}, r"margin \(.*\) = nan must be a finite number ≥ 0"),
+    ({"margin": -0.1}, r"margin \(.*\) = -0.1 must be a finite number ≥ 0"),
+    ({"sigma_min": "0.02"}, r"sigma_min \(SI\) must be a finite number > 0, got string"),
+    ({"sigma_min": True}, r"sigma_min \(SI\) must be a finite number > 0, got boolean"),
+    ({"sigma_min": 0.0}, r"sigma_min \(SI\) = 0.0 must be a finite number > 0"),
+    ({"manipulability": float("inf")}, r"manipulability \(SI\) = inf must be a finite number > 0"),
 ])
 def test_width_sources_are_checked(kwargs, match):
     robot, A = analysed("fanuc_m16ib20")
