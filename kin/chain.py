@@ -127,6 +127,8 @@ class Chain:
     tool: Placement = IDENTITY
     parameters: Mapping[str, Parameter] = field(default_factory=dict)
     task: tuple[str, ...] | None = None
+    #: collision capsules (:class:`kin.geometry.RobotGeometry`); None: :func:`kin.geometry.default_geometry`
+    geometry: object | None = None
 
     def __post_init__(self):
         if not self.joints:

@@ -84,6 +84,13 @@ class Robot:
         """``"compiled"`` or ``"vm"``: what actually evaluates."""
         return self.evaluator.backend
 
+    @cached_property
+    def geometry(self):
+        """The collision capsules (:class:`kin.geometry.RobotGeometry`): the chain's own, else the
+        default along its DH offsets (:func:`kin.geometry.default_geometry`)."""
+        from kin.geometry import default_geometry
+        return self.chain.geometry if self.chain.geometry is not None else default_geometry(self.chain)
+
     @property
     def task_rows(self) -> tuple[int, ...]:
         """Jacobian rows the dexterity measures use (0..5 = x y z rx ry rz)."""

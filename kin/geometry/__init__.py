@@ -1,0 +1,17 @@
+"""Link geometry: the capsules a robot is made of, obstacle shapes, body frames, the motion bound of
+the collision proofs and the compiled clearance kernel.
+
+* :mod:`kin.geometry.shapes` — :class:`LinkCapsule`, :class:`Shape`, :class:`Obstacle`;
+* :mod:`kin.geometry.model` — :class:`RobotGeometry` (capsules per body, allowed pairs);
+* :mod:`kin.geometry.default` — :func:`default_geometry` along the DH offsets;
+* :mod:`kin.geometry.frames` — :func:`body_frames` (numpy);
+* :mod:`kin.geometry.motion` — :func:`reach_radii`, the Lipschitz bound of body motion.
+"""
+from kin.geometry.default import chain_length, default_geometry, default_radius
+from kin.geometry.frames import body_frames
+from kin.geometry.model import RobotGeometry, body_names
+from kin.geometry.motion import reach_radii, row_lengths
+from kin.geometry.shapes import SHAPE_KINDS, LinkCapsule, Obstacle, Shape
+
+__all__ = ["SHAPE_KINDS", "LinkCapsule", "Obstacle", "RobotGeometry", "Shape", "body_frames", "body_names",
+           "chain_length", "default_geometry", "default_radius", "reach_radii", "row_lengths"]
