@@ -16,6 +16,7 @@ from kin.errors import (
     ChainError,
     CompileError,
     ConfigurationError,
+    GeometryError,
     JointLimitError,
     OutBufferError,
     ParameterError,
@@ -30,7 +31,7 @@ _LAZY = {"Robot", "Measures", "load_robot"}
 
 __all__ = ["Chain", "Joint", "Parameter", "Placement", "Robot", "Measures", "load_robot", "load_chain",
            "loads_robot", "dumps_robot", "save_robot", "bundled_robots", "RmtError", "RobotFileError",
-           "UnknownRobotError", "ArgumentError", "ChainError", "ConfigurationError", "JointLimitError",
+           "UnknownRobotError", "ArgumentError", "ChainError", "ConfigurationError", "GeometryError", "JointLimitError",
            "ParameterError", "CompileError", "OutBufferError", "SettingError"]
 
 

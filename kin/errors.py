@@ -58,5 +58,11 @@ class OutBufferError(RmtError, ValueError):
     """An ``out=`` buffer handed to a batch call has the wrong type, dtype, shape or layout."""
 
 
+class GeometryError(RmtError, ValueError):
+    """Collision geometry or a clearance model's arguments are invalid: a negative or non-finite radius
+    or size, a capsule or an ignored body the chain does not have, an obstacle pose that is not rigid,
+    a sphere set that is not (K, 4)."""
+
+
 class SettingError(RmtError, ValueError):
     """An environment setting (``RMTKIT_THREADS``, ``RMTKIT_ARCH``) holds a value outside its allowed range."""
