@@ -5,13 +5,18 @@ the collision proofs and the compiled clearance kernel.
 * :mod:`kin.geometry.model` — :class:`RobotGeometry` (capsules per body, allowed pairs);
 * :mod:`kin.geometry.default` — :func:`default_geometry` along the DH offsets;
 * :mod:`kin.geometry.frames` — :func:`body_frames` (numpy);
-* :mod:`kin.geometry.motion` — :func:`reach_radii`, the Lipschitz bound of body motion.
+* :mod:`kin.geometry.motion` — :func:`reach_radii`, the Lipschitz bound of body motion;
+* :mod:`kin.geometry.clearance` — :class:`ClearanceModel`, the signed clearance of the capsules
+  against obstacles and each other (compiled kernel ``clearance.c``; numpy fallback
+  :mod:`kin.geometry.clearance_numpy`), :class:`Contact`.
 """
+from kin.geometry.clearance import ClearanceModel, Contact
 from kin.geometry.default import chain_length, default_geometry, default_radius
 from kin.geometry.frames import body_frames
 from kin.geometry.model import RobotGeometry, body_names
 from kin.geometry.motion import reach_radii, row_lengths
 from kin.geometry.shapes import SHAPE_KINDS, LinkCapsule, Obstacle, Shape
 
-__all__ = ["SHAPE_KINDS", "LinkCapsule", "Obstacle", "RobotGeometry", "Shape", "body_frames", "body_names",
-           "chain_length", "default_geometry", "default_radius", "reach_radii", "row_lengths"]
+__all__ = ["SHAPE_KINDS", "ClearanceModel", "Contact", "LinkCapsule", "Obstacle", "RobotGeometry", "Shape",
+           "body_frames", "body_names", "chain_length", "default_geometry", "default_radius", "reach_radii",
+           "row_lengths"]

@@ -1,0 +1,710 @@
+/* The signed clearance of a robot's capsules against a cell's obstacles and against each other, for a
+   batch of configurations: loaded by kin/geometry/clearance.py (built by kin.native.build; no generated
+   header — the kernel is generic, the robot and the cell come in at run time as an rmt_clear_model,
+   see clearance.h for the data layout).
+
+   Per configuration: the body frames from the DH rows (standard or modified, as
+   kin/geometry/frames.py::body_frames: frame 0 = base, frame k = frame k−1 · A_k, the tool = frame n ·
+   tool; sin/cos once per joint, no frame past the last body holding a capsule), every capsule's segment
+   in the world, then the pairs:
+
+   * capsule – sphere, capsule – capsule: the exact distance of the segments (Ericson's closest points,
+     branch-free but for near-parallel segments) minus the radii; negative = overlap depth;
+   * capsule – box, capsule – cylinder: the minimum over the capsule's segment of the solid's signed
+     distance function (the distance to the solid outside, minus the depth inside) minus the capsule's
+     radius.  f(t) = sdf(a + t·(b − a)) is convex, so each evaluation (value and slope) gives a tangent
+     line below f: the two tangent lines of a bracket [lo, hi] (slope < 0 at lo, > 0 at hi) meet at a
+     proven LOWER BOUND of min f, and the best point evaluated gives an upper bound.  The bracket shrinks
+     (secant steps on the slope, alternating with steps to the tangents' crossing) until the two bounds
+     are TOL apart, and the kernel reports the lower bound.  Near-parallel segments (where Ericson's
+     2×2 solve loses digits) go the same way, f being the distance to the other segment;
+   * capsule – sphere set: a bounding-sphere hierarchy (built in Python, kin/geometry/clearance.py)
+     walked nearest child first, pruned against the running minimum.
+
+   The promise: a reported clearance NEVER exceeds the true signed distance (beyond the rounding of
+   the frames, ~1e-15 m) and lies within TOL (1e-7 m) of it — the planner's proofs rely on the lower
+   bound.  Values at or above `cap` are reported as `cap`: every pair is first tested by bounding
+   balls (of the body, of the capsule, of the obstacle primitive, of the hierarchy's nodes) against the
+   running minimum (or cap), so most pairs cost one squared distance.  In the minimum modes the pair
+   whose balls come closest is evaluated first, so the running minimum is tight early.
+
+   Modes (clearance.h): RMT_MODE_MIN (N,) minima; RMT_MODE_NEAREST adds the body, the other party
+   (obstacle index >= 0, or −1 − other body for a self pair; body = other = −1 and NaN points when
+   nothing lies below cap) and the two witness points (on the capsule's surface and on the other
+   party's, |p_robot − p_other| = |clearance|); RMT_MODE_PER_BODY writes (N, n + 2) minima per body
+   against obstacles and against other bodies (a self pair counts for both of its bodies).
+
+   Threads: configurations in chunks over rmt_parallel_for (rmt_parallel.h); each configuration's
+   result does not depend on the thread count. */
+#include <math.h>
+#include <stdlib.h>
+#include "rmt_common.h"
+#include "rmt_parallel.h"
+#include "clearance.h"
+
+#define TOL 1e-7          /* m: a convex minimisation stops when its lower and upper bounds are this close */
+#define MAX_STEPS 200     /* ... or after this many steps (rounding only), reporting the lower bound */
+#define NEAR_PARALLEL 1e-8  /* sin² of the angle below which two segments go the convex way */
+#define STACK 128         /* BVH depth limit (clearance.py builds balanced trees, depth < 40) */
+#define CHUNK 64          /* configurations per range of rmt_parallel_for */
+#define LANES 8           /* configurations whose frames are computed together (one AVX-512 vector) */
+#define SINCOS_FAST 1e5   /* |angle| up to which the vector sin/cos reduces by pi/2 exactly enough */
+
+typedef struct {          /* one capsule in the world, for one configuration */
+  double a[3], d[3];      /* segment a .. a + d */
+  double dd, idd;         /* d·d, 1/(d·d) (0 for a ball) */
+  double m[3], rb;        /* bounding ball: midpoint, half length + radius */
+  double r;
+  long long body;
+} wcap;
+
+typedef struct {          /* what one configuration's pairs report to */
+  int mode;
+  double best;            /* modes MIN, NEAREST: the running minimum (starts at cap) */
+  long long body, other;
+  double pr[3], po[3];
+  double *bo, *bs;        /* PER_BODY: minima per body against obstacles, against bodies */
+  long long code;         /* the candidate (see scratch.code) that gave best */
+} sink;
+
+typedef struct {          /* the scratch space of one thread */
+  double *F;              /* nbody × 12 × LANES frames of a block of configurations (lane fastest) */
+  double *cs;             /* n × 2 × LANES: cos, sin of each joint's angle */
+  double *W;              /* nbody × 4 bounding balls in the world */
+  wcap *C;                /* ncap */
+  double *lb;             /* candidates: lower bounds */
+  long long *code;        /* ... and what they are: b · nprim + p (obstacle), −1 − k (body pair k) */
+  long long hint;         /* the candidate that gave the previous configuration's minimum (NO_HINT: none) */
+  double *plb;            /* nprim4: one body's lower bounds against every primitive */
+} scratch;
+
+#define NO_HINT (-(1LL << 62))
+
+RMT_INLINE double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+RMT_INLINE double clamp01(double x) { return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x); }
+
+/* true when a ball pair at squared distance d2 with radii summing to rr cannot come below thr:
+   sqrt(d2) − rr >= thr, without the square root */
+RMT_INLINE int far_apart(double d2, double rr, double thr)
+{
+  double lim = thr + rr;
+  return lim <= 0.0 || d2 >= lim * lim;
+}
+
+RMT_INLINE double dist2(const double *a, const double *b)
+{
+  double x = a[0] - b[0], y = a[1] - b[1], z = a[2] - b[2];
+  return x * x + y * y + z * z;
+}
+
+/* ---- frames ---------------------------------------------------------------------------------- */
+/* sin and cos of LANES angles, vectorised: reduction by pi/2 in three parts (Cody & Waite, fdlibm's
+   constants: exact enough for |x| <= SINCOS_FAST), Cephes' polynomials on [-pi/4, pi/4] (about 1 ulp);
+   larger angles go to libm */
+static const double PIO2_1 = 1.57079632673412561417e+00, PIO2_2 = 6.07710050630396597660e-11,
+                    PIO2_2T = 2.02226624879595063154e-21, TWO_OVER_PI = 6.36619772367581382433e-01;
+
+RMT_INLINE void sincos_lanes(const double *restrict x, double *restrict c, double *restrict s)
+{
+  double big = 0.0;
+#pragma omp simd reduction(max:big)
+  for (int l = 0; l < LANES; ++l) {
+    double v = x[l];
+    double k = nearbyint(v * TWO_OVER_PI);
+    double r = ((v - k * PIO2_1) - k * PIO2_2) - k * PIO2_2T;
+    double z = r * r;
+    double sr = r + r * z * (((((1.58962301576546568060e-10 * z - 2.50507477628578072866e-8) * z
+                + 2.75573136213857245213e-6) * z - 1.98412698295895385996e-4) * z + 8.33333333332211858878e-3) * z
+                - 1.66666666666666307295e-1);
+    double cr = 1.0 - 0.5 * z + z * z * (((((-1.13585365213876817300e-11 * z + 2.08757008419747316778e-9) * z
+                - 2.75573141792967388112e-7) * z + 2.48015872888517045348e-5) * z - 1.38888888888730564116e-3) * z
+                + 4.16666666666665929218e-2);
+    long long q = (long long)k;                               /* the quadrant: q & 3 */
+    double sv = (q & 1) ? cr : sr, cv = (q & 1) ? sr : cr;
+    s[l] = (q & 2) ? -sv : sv;
+    c[l] = ((q + 1) & 2) ? -cv : cv;
+    double a = fabs(v);
+    big = a > big ? a : big;
+  }
+  if (!(big <= SINCOS_FAST))                                  /* a huge angle (or NaN): libm */
+    for (int l = 0; l < LANES; ++l)
+      if (!(fabs(x[l]) <= SINCOS_FAST)) { s[l] = sin(x[l]); c[l] = cos(x[l]); }
+}
+
+/* the frames of nl <= LANES configurations (lane l's joint j at q[l * n + j]; lanes from nl on repeat
+   the last) up to body m->last: frame k (columns X Y Z O), component i of column c of lane l at
+   F[(12 k + 3 c + i) LANES + l] */
+static void frames(const rmt_clear_model *m, const double *q, int nl, scratch *s)
+{
+  long long n = m->n, last = m->last;
+  long long kmax = last < n ? last : n;
+  double *F = s->F, *cs = s->cs;
+  for (int i = 0; i < 12; ++i)
+    for (int l = 0; l < LANES; ++l) F[i * LANES + l] = m->base[i];
+  double th[LANES], dd[LANES];
+  for (long long k = 1; k <= kmax; ++k) {
+    const double *row = m->dh + 8 * (k - 1);
+    double a = row[0], ca = row[1], sa = row[2], d = row[3], theta = row[4];
+    int pris = row[5] != 0.0;
+    for (int l = 0; l < LANES; ++l) {
+      double v = q[(l < nl ? l : nl - 1) * n + k - 1];
+      th[l] = pris ? theta : theta + v;
+      dd[l] = pris ? d + v : d;
+    }
+    double *ct = cs + 2 * LANES * (k - 1), *st = ct + LANES;
+    sincos_lanes(th, ct, st);
+    const double *P = F + 12 * LANES * (k - 1);
+    double *G = F + 12 * LANES * k;
+    if (m->modified) {        /* Rx(α)·Tx(a)·Rz(θ)·Tz(d) */
+      for (int i = 0; i < 3; ++i) {
+        const double *X = P + i * LANES, *Y = P + (3 + i) * LANES, *Z = P + (6 + i) * LANES, *O = P + (9 + i) * LANES;
+        double *X2 = G + i * LANES, *Y2 = G + (3 + i) * LANES, *Z2 = G + (6 + i) * LANES, *O2 = G + (9 + i) * LANES;
+        RMT_SIMD
+        for (int l = 0; l < LANES; ++l) {
+          double y1 = ca * Y[l] + sa * Z[l], z1 = -sa * Y[l] + ca * Z[l];
+          X2[l] = ct[l] * X[l] + st[l] * y1;
+          Y2[l] = -st[l] * X[l] + ct[l] * y1;
+          Z2[l] = z1;
+          O2[l] = O[l] + a * X[l] + dd[l] * z1;
+        }
+      }
+    } else {                  /* Rz(θ)·Tz(d)·Tx(a)·Rx(α) */
+      for (int i = 0; i < 3; ++i) {
+        const double *X = P + i * LANES, *Y = P + (3 + i) * LANES, *Z = P + (6 + i) * LANES, *O = P + (9 + i) * LANES;
+        double *X2 = G + i * LANES, *Y2 = G + (3 + i) * LANES, *Z2 = G + (6 + i) * LANES, *O2 = G + (9 + i) * LANES;
+        RMT_SIMD
+        for (int l = 0; l < LANES; ++l) {
+          double x1 = ct[l] * X[l] + st[l] * Y[l], y1 = -st[l] * X[l] + ct[l] * Y[l];
+          X2[l] = x1;
+          Y2[l] = ca * y1 + sa * Z[l];
+          Z2[l] = -sa * y1 + ca * Z[l];
+          O2[l] = O[l] + dd[l] * Z[l] + a * x1;
+        }
+      }
+    }
+  }
+  if (last == n + 1) {        /* the tool: frame n · tool */
+    const double *P = F + 12 * LANES * n, *T = m->tool;
+    double *G = F + 12 * LANES * (n + 1);
+    for (int c = 0; c < 4; ++c)
+      for (int i = 0; i < 3; ++i) {
+        double *g = G + (3 * c + i) * LANES;
+        const double *X = P + i * LANES, *Y = P + (3 + i) * LANES, *Z = P + (6 + i) * LANES, *O = P + (9 + i) * LANES;
+        double t0 = T[3 * c], t1 = T[3 * c + 1], t2 = T[3 * c + 2], one = c == 3 ? 1.0 : 0.0;
+        RMT_SIMD
+        for (int l = 0; l < LANES; ++l) g[l] = one * O[l] + X[l] * t0 + Y[l] * t1 + Z[l] * t2;
+      }
+  }
+}
+
+/* p = F · v for lane l (a point given in frame F) */
+RMT_INLINE void apply(const double *F, int l, const double *v, double *p)
+{
+  for (int i = 0; i < 3; ++i)
+    p[i] = F[(9 + i) * LANES + l] + F[i * LANES + l] * v[0] + F[(3 + i) * LANES + l] * v[1]
+         + F[(6 + i) * LANES + l] * v[2];
+}
+
+/* the capsules and the bodies' balls in the world for lane l of the block */
+static void place(const rmt_clear_model *m, int l, scratch *s)
+{
+  for (long long b = 0; b <= m->last; ++b) {
+    long long c0 = m->body_cap[b], c1 = m->body_cap[b + 1];
+    if (c0 == c1) continue;
+    const double *Fb = s->F + 12 * LANES * b;
+    apply(Fb, l, m->body_sphere + 4 * b, s->W + 4 * b);
+    s->W[4 * b + 3] = m->body_sphere[4 * b + 3];
+    for (long long c = c0; c < c1; ++c) {      /* lengths do not change: dd, idd, rb come from Python */
+      const double *K = m->cap + RMT_CAP_STRIDE * c;
+      wcap *w = s->C + c;
+      double e[3];
+      apply(Fb, l, K, w->a);
+      apply(Fb, l, K + 3, e);
+      for (int i = 0; i < 3; ++i) { w->d[i] = e[i] - w->a[i]; w->m[i] = 0.5 * (e[i] + w->a[i]); }
+      w->r = K[6];
+      w->dd = K[7];
+      w->idd = K[8];
+      w->rb = K[9];
+      w->body = b;
+    }
+  }
+}
+
+/* ---- distances --------------------------------------------------------------------------------- */
+/* squared distance of point p from segment a .. a + d (idd = 1/(d·d) or 0); *t the segment parameter */
+RMT_INLINE double seg_point(const double *a, const double *d, double idd, const double *p, double *t)
+{
+  double v[3] = { p[0] - a[0], p[1] - a[1], p[2] - a[2] };
+  double u = clamp01(dot3(v, d) * idd);
+  *t = u;
+  double x = v[0] - u * d[0], y = v[1] - u * d[1], z = v[2] - u * d[2];
+  return x * x + y * y + z * z;
+}
+
+/* the convex functions minimised along a segment: value f and unit (sub)gradient n at point p */
+enum { SDF_BOX, SDF_CYLINDER, SDF_SEGMENT };
+
+RMT_INLINE double sdf(int kind, const double *S, const double *p, double *n)
+{
+  if (kind == SDF_BOX) {  /* S: half sizes */
+    double q[3], o[3], o2 = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      q[i] = fabs(p[i]) - S[i];
+      o[i] = q[i] > 0.0 ? q[i] : 0.0;
+      o2 += o[i] * o[i];
+    }
+    if (o2 > 0.0) {
+      double r = sqrt(o2), ir = 1.0 / r;
+      for (int i = 0; i < 3; ++i) n[i] = copysign(o[i] * ir, p[i]);
+      return r;
+    }
+    int k = q[0] >= q[1] ? (q[0] >= q[2] ? 0 : 2) : (q[1] >= q[2] ? 1 : 2);
+    n[0] = n[1] = n[2] = 0.0;
+    n[k] = copysign(1.0, p[k]);
+    return q[k];
+  }
+  if (kind == SDF_CYLINDER) {  /* S: radius, half length */
+    double rho = sqrt(p[0] * p[0] + p[1] * p[1]);
+    double ux = 1.0, uy = 0.0;
+    if (rho > 0.0) { ux = p[0] / rho; uy = p[1] / rho; }
+    double qr = rho - S[0], qz = fabs(p[2]) - S[1], sz = copysign(1.0, p[2]);
+    if (qr > 0.0 || qz > 0.0) {
+      double wr = qr > 0.0 ? qr : 0.0, wz = qz > 0.0 ? qz : 0.0;
+      double r = sqrt(wr * wr + wz * wz), ir = 1.0 / r;
+      n[0] = wr * ir * ux; n[1] = wr * ir * uy; n[2] = wz * ir * sz;
+      return r;
+    }
+    if (qr >= qz) { n[0] = ux; n[1] = uy; n[2] = 0.0; return qr; }
+    n[0] = n[1] = 0.0; n[2] = sz;
+    return qz;
+  }
+  /* SDF_SEGMENT: S: a (3), d (3), 1/(d·d): the distance from the segment */
+  double t;
+  double v2 = seg_point(S, S + 3, S[6], p, &t);
+  double v[3] = { p[0] - S[0] - t * S[3], p[1] - S[1] - t * S[4], p[2] - S[2] - t * S[5] };
+  if (v2 <= 0.0) { n[0] = n[1] = n[2] = 0.0; return 0.0; }
+  double r = sqrt(v2), ir = 1.0 / r;
+  for (int i = 0; i < 3; ++i) n[i] = v[i] * ir;
+  return r;
+}
+
+typedef struct { double t, f, n[3]; } best_point;  /* the best point evaluated: parameter, value, gradient */
+
+/* a lower bound of min_{t in [0,1]} sdf(P + t D), within TOL of it unless it is >= thr (then the
+   search stops as soon as the bound shows it); *bp the best point evaluated */
+RMT_INLINE double convex_min(int kind, const double *S, const double *P, const double *D, double thr,
+                             best_point *bp)
+{
+  double p[3], n[3];
+  double f0 = sdf(kind, S, P, n);
+  double g0 = dot3(n, D);
+  bp->t = 0.0; bp->f = f0; bp->n[0] = n[0]; bp->n[1] = n[1]; bp->n[2] = n[2];
+  if (g0 >= 0.0) return f0;                 /* the minimum is at t = 0 */
+  for (int i = 0; i < 3; ++i) p[i] = P[i] + D[i];
+  double f1 = sdf(kind, S, p, n);
+  double g1 = dot3(n, D);
+  if (f1 < f0) { bp->t = 1.0; bp->f = f1; bp->n[0] = n[0]; bp->n[1] = n[1]; bp->n[2] = n[2]; }
+  if (g1 <= 0.0) return f1;                 /* ... at t = 1 */
+  double lo = 0.0, hi = 1.0, flo = f0, glo = g0, fhi = f1, ghi = g1;
+  for (int step = 0; step < MAX_STEPS; ++step) {
+    double w = hi - lo, den = ghi - glo;
+    double lb = (ghi * flo - glo * fhi + glo * ghi * w) / den;   /* where the two tangents cross */
+    if (lb >= thr || bp->f - lb <= TOL || !(w > 1e-15)) return lb;
+    double t = (step & 1) ? lo + (flo - fhi + ghi * w) / den     /* the tangents' crossing */
+                          : lo - glo * w / den;                  /* the slope's secant root */
+    double margin = 0.02 * w;
+    if (t < lo + margin) t = lo + margin;
+    if (t > hi - margin) t = hi - margin;
+    for (int i = 0; i < 3; ++i) p[i] = P[i] + t * D[i];
+    double ft = sdf(kind, S, p, n);
+    double gt = dot3(n, D);
+    if (ft < bp->f) { bp->t = t; bp->f = ft; bp->n[0] = n[0]; bp->n[1] = n[1]; bp->n[2] = n[2]; }
+    if (gt == 0.0) return ft;               /* a minimum */
+    if (gt < 0.0) { lo = t; flo = ft; glo = gt; }
+    else          { hi = t; fhi = ft; ghi = gt; }
+  }
+  double w = hi - lo;
+  return (ghi * flo - glo * fhi + glo * ghi * w) / (ghi - glo);
+}
+
+/* distance of two segments (lower bound within TOL; exact but for rounding outside near-parallel
+   cases); *s, *t the closest points' parameters */
+RMT_INLINE double seg_seg(const wcap *c, const double *a2, const double *d2, double e, double ie, double thr,
+                          double *s_out, double *t_out)
+{
+  const double *d1 = c->d;
+  double r[3] = { c->a[0] - a2[0], c->a[1] - a2[1], c->a[2] - a2[2] };
+  double a = c->dd, b = dot3(d1, d2), cc = dot3(d1, r), f = dot3(d2, r);
+  double den = a * e - b * b;
+  if (den <= NEAR_PARALLEL * a * e && a > 0.0 && e > 0.0) {
+    /* near-parallel: min over s of the distance of c's point s from segment 2 (convex) */
+    double S[7] = { a2[0], a2[1], a2[2], d2[0], d2[1], d2[2], ie };
+    best_point bp;
+    double v = convex_min(SDF_SEGMENT, S, c->a, d1, thr, &bp);
+    double p[3] = { c->a[0] + bp.t * d1[0], c->a[1] + bp.t * d1[1], c->a[2] + bp.t * d1[2] };
+    seg_point(a2, d2, ie, p, t_out);
+    *s_out = bp.t;
+    return v;
+  }
+  double s = den > 0.0 ? clamp01((b * f - cc * e) / den) : 0.0;
+  double t = clamp01((b * s + f) * ie);
+  s = clamp01((b * t - cc) * c->idd);
+  double x = r[0] + s * d1[0] - t * d2[0], y = r[1] + s * d1[1] - t * d2[1], z = r[2] + s * d1[2] - t * d2[2];
+  *s_out = s;
+  *t_out = t;
+  return sqrt(x * x + y * y + z * z);
+}
+
+/* the witness points of a pair whose closest points are p (robot) and o (other), radii r and ro */
+static void witness(sink *k, const double *p, const double *o, double r, double ro)
+{
+  double v[3] = { o[0] - p[0], o[1] - p[1], o[2] - p[2] };
+  double l = sqrt(dot3(v, v));
+  double u[3] = { 0.0, 0.0, 1.0 };
+  if (l > 0.0) for (int i = 0; i < 3; ++i) u[i] = v[i] / l;
+  for (int i = 0; i < 3; ++i) { k->pr[i] = p[i] + r * u[i]; k->po[i] = o[i] - ro * u[i]; }
+}
+
+/* ---- capsule against one primitive ------------------------------------------------------------- */
+/* the clearance of capsule c against primitive P (kind 0..3) when it is below thr, else any value
+   >= thr; with want, writes the witness points into k */
+static double cap_prim(const wcap *c, const double *P, long long kind, double thr, int want, sink *k)
+{
+  if (kind == RMT_PRIM_SPHERE || kind == RMT_PRIM_CAPSULE) {
+    double R = P[10], s, t;
+    double v;
+    if (kind == RMT_PRIM_SPHERE) {
+      double d2 = seg_point(c->a, c->d, c->idd, P + 4, &s);
+      if (far_apart(d2, c->r + R, thr)) return thr;
+      v = sqrt(d2) - c->r - R;
+      t = 0.0;
+    } else {
+      double d2[3] = { P[7] - P[4], P[8] - P[5], P[9] - P[6] };
+      double e = dot3(d2, d2);
+      v = seg_seg(c, P + 4, d2, e, e > 0.0 ? 1.0 / e : 0.0, thr + c->r + R, &s, &t) - c->r - R;
+    }
+    if (want && v < thr) {
+      double p[3], o[3];
+      for (int i = 0; i < 3; ++i) { p[i] = c->a[i] + s * c->d[i]; o[i] = P[4 + i] + t * (P[7 + i] - P[4 + i]); }
+      if (kind == RMT_PRIM_SPHERE) for (int i = 0; i < 3; ++i) o[i] = P[4 + i];
+      witness(k, p, o, c->r, R);
+    }
+    return v;
+  }
+  /* box, cylinder: the segment in the solid's frame (pose columns X Y Z O at P + 12) */
+  const double *X = P + 12, *Y = P + 15, *Z = P + 18, *O = P + 21;
+  double a0[3] = { c->a[0] - O[0], c->a[1] - O[1], c->a[2] - O[2] };
+  double A[3] = { dot3(X, a0), dot3(Y, a0), dot3(Z, a0) };
+  double D[3] = { dot3(X, c->d), dot3(Y, c->d), dot3(Z, c->d) };
+  /* first the distance between the segment's box and the solid's (its own, or the cylinder's): a
+     lower bound, exact when the segment lies over one face */
+  double h[3] = { P[4], kind == RMT_PRIM_BOX ? P[5] : P[4], kind == RMT_PRIM_BOX ? P[6] : P[5] };
+  double g2 = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    double e = A[i] + D[i], lo = A[i] < e ? A[i] : e, hi = A[i] < e ? e : A[i];
+    double gap = lo - h[i] > -h[i] - hi ? lo - h[i] : -h[i] - hi;
+    if (gap > 0.0) g2 += gap * gap;
+  }
+  if (g2 > 0.0 && far_apart(g2, c->r, thr)) return thr;     /* (g2 = 0 bounds nothing below -r) */
+  best_point bp;
+  double v = convex_min(kind == RMT_PRIM_BOX ? SDF_BOX : SDF_CYLINDER, P + 4, A, D, thr + c->r, &bp) - c->r;
+  if (want && v < thr) {
+    double p[3], o[3], nw[3];
+    for (int i = 0; i < 3; ++i) {
+      p[i] = c->a[i] + bp.t * c->d[i];
+      nw[i] = X[i] * bp.n[0] + Y[i] * bp.n[1] + Z[i] * bp.n[2];   /* outward normal in the world */
+      k->pr[i] = p[i] - c->r * nw[i];
+      k->po[i] = p[i] - bp.f * nw[i];
+      (void)o;
+    }
+  }
+  return v;
+}
+
+/* the clearance of capsule c against the sphere set under node root when below thr (else thr);
+   *hit the sphere (−1: none below thr) */
+static double cap_set(const rmt_clear_model *m, long long root, const wcap *c, double thr, long long *hit)
+{
+  long long stack[STACK];
+  double bound[STACK];
+  int sp = 0;
+  double best = thr;
+  *hit = -1;
+  stack[sp] = root; bound[sp] = -HUGE_VAL; ++sp;
+  while (sp > 0) {
+    --sp;
+    if (bound[sp] >= best) continue;
+    long long k = stack[sp];
+    const long long *L = m->link + 2 * k;
+    if (L[1] < 0) {       /* leaf: spheres L[0] … L[0] − L[1] − 1 */
+      for (long long i = L[0], e = L[0] - L[1]; i < e; ++i) {
+        const double *S = m->sphere + 4 * i;
+        double t, d2 = seg_point(c->a, c->d, c->idd, S, &t);
+        if (far_apart(d2, c->r + S[3], best)) continue;
+        double v = sqrt(d2) - c->r - S[3];
+        if (v < best) { best = v; *hit = i; }
+      }
+      continue;
+    }
+    double lb[2];
+    for (int j = 0; j < 2; ++j) {
+      const double *N = m->node + 4 * L[j];
+      double t, d2 = seg_point(c->a, c->d, c->idd, N, &t);
+      lb[j] = far_apart(d2, c->r + N[3], best) ? HUGE_VAL : sqrt(d2) - c->r - N[3];
+    }
+    int nearer = lb[1] < lb[0];
+    if (lb[!nearer] < best) { stack[sp] = L[!nearer]; bound[sp] = lb[!nearer]; ++sp; }
+    if (lb[nearer] < best) { stack[sp] = L[nearer]; bound[sp] = lb[nearer]; ++sp; }
+  }
+  return best;
+}
+
+/* ---- one configuration --------------------------------------------------------------------------- */
+/* lower bounds of the clearance of anything inside body b's ball W (centre, radius) against every
+   primitive (+inf where b is ignored), vectorised over the primitives: the distance of the bounding
+   balls, and where W's centre lies outside a primitive's box in the world (axis-aligned: exact for an
+   upright table) the distance to that box minus W's radius — inside it nothing is known (a penetration
+   may be deeper than the radius) */
+static void body_bounds(const rmt_clear_model *m, const double *W, long long b, double *restrict lb)
+{
+  long long P4 = m->nprim4;
+  const double *S = m->prim_soa;
+  const double *cx = S, *cy = S + P4, *cz = S + 2 * P4, *cr = S + 3 * P4;
+  const double *ax = S + 4 * P4, *ay = S + 5 * P4, *az = S + 6 * P4;
+  const double *hx = S + 7 * P4, *hy = S + 8 * P4, *hz = S + 9 * P4;
+  const long long *ign = m->prim_ignore;
+  double wx = W[0], wy = W[1], wz = W[2], wr = W[3];
+  RMT_SIMD
+  for (long long p = 0; p < P4; ++p) {
+    double dx = wx - cx[p], dy = wy - cy[p], dz = wz - cz[p];
+    double l1 = sqrt(dx * dx + dy * dy + dz * dz) - wr - cr[p];
+    double gx = fabs(wx - ax[p]) - hx[p], gy = fabs(wy - ay[p]) - hy[p], gz = fabs(wz - az[p]) - hz[p];
+    gx = gx > 0.0 ? gx : 0.0; gy = gy > 0.0 ? gy : 0.0; gz = gz > 0.0 ? gz : 0.0;
+    double g2 = gx * gx + gy * gy + gz * gz;
+    double l2 = g2 > 0.0 ? sqrt(g2) - wr : -HUGE_VAL;
+    double l = l1 > l2 ? l1 : l2;
+    lb[p] = ((ign[p] >> b) & 1) ? HUGE_VAL : l;
+  }
+}
+
+/* capsules of body b against primitive p, reporting to k */
+static void body_prim(const rmt_clear_model *m, const scratch *s, long long b, long long p, sink *k)
+{
+  const double *P = m->prim + RMT_PRIM_STRIDE * p;
+  long long kind = m->prim_int[4 * p];
+  int want = k->mode == RMT_MODE_NEAREST;
+  for (long long c = m->body_cap[b]; c < m->body_cap[b + 1]; ++c) {
+    const wcap *w = s->C + c;
+    double thr = k->mode == RMT_MODE_PER_BODY ? k->bo[b] : k->best;
+    if (far_apart(dist2(w->m, P), w->rb + P[3], thr)) continue;
+    double v;
+    if (kind == RMT_PRIM_SET) {
+      long long hit;
+      v = cap_set(m, m->prim_int[4 * p + 2], w, thr, &hit);
+      if (want && hit >= 0) {
+        const double *S = m->sphere + 4 * hit;
+        double t, q[3];
+        seg_point(w->a, w->d, w->idd, S, &t);
+        for (int i = 0; i < 3; ++i) q[i] = w->a[i] + t * w->d[i];
+        witness(k, q, S, w->r, S[3]);
+      }
+    } else {
+      v = cap_prim(w, P, kind, thr, want, k);
+    }
+    if (v < thr) {
+      if (k->mode == RMT_MODE_PER_BODY) k->bo[b] = v;
+      else { k->best = v; k->body = b; k->other = m->prim_int[4 * p + 1]; k->code = b * m->nprim + p; }
+    }
+  }
+}
+
+/* capsules of body pair pr (bodies bi < bj) against each other, reporting to k */
+static void body_pair(const rmt_clear_model *m, const scratch *s, long long pr, sink *k)
+{
+  long long bi = m->pair[2 * pr], bj = m->pair[2 * pr + 1];
+  int per_body = k->mode == RMT_MODE_PER_BODY;
+  for (long long ci = m->body_cap[bi]; ci < m->body_cap[bi + 1]; ++ci) {
+    const wcap *u = s->C + ci;
+    for (long long cj = m->body_cap[bj]; cj < m->body_cap[bj + 1]; ++cj) {
+      const wcap *w = s->C + cj;
+      double thr = per_body ? (k->bs[bi] > k->bs[bj] ? k->bs[bi] : k->bs[bj]) : k->best;
+      double rr = u->r + w->r;
+      if (far_apart(dist2(u->m, w->m), u->rb + w->rb, thr)) continue;
+      double sa, tb;
+      double v = seg_seg(u, w->a, w->d, w->dd, w->idd, thr + rr, &sa, &tb) - rr;
+      if (!(v < thr)) continue;
+      if (per_body) {
+        if (v < k->bs[bi]) k->bs[bi] = v;
+        if (v < k->bs[bj]) k->bs[bj] = v;
+        continue;
+      }
+      k->best = v; k->body = bi; k->other = -1 - bj; k->code = -1 - pr;
+      if (k->mode == RMT_MODE_NEAREST) {
+        double p[3], o[3];
+        for (int i = 0; i < 3; ++i) { p[i] = u->a[i] + sa * u->d[i]; o[i] = w->a[i] + tb * w->d[i]; }
+        witness(k, p, o, u->r, w->r);
+      }
+    }
+  }
+}
+
+RMT_INLINE int ignores(const rmt_clear_model *m, long long p, long long b)
+{
+  return (int)((m->prim_int[4 * p + 3] >> b) & 1);
+}
+
+RMT_INLINE void candidate(const rmt_clear_model *m, const scratch *s, long long code, sink *k)
+{
+  if (code >= 0) body_prim(m, s, code / m->nprim, code % m->nprim, k);
+  else body_pair(m, s, -1 - code, k);
+}
+
+/* every pair of one configuration (the capsules placed in s) */
+static void pairs(const rmt_clear_model *m, scratch *s, sink *k)
+{
+  long long nprim = m->nprim, ncand = 0;
+  double *plb = s->plb;
+  if (k->mode == RMT_MODE_PER_BODY) {
+    /* per body: its nearest primitive (by bound) first, then the others whose bounds come below */
+    for (long long b = 0; b <= m->last; ++b) {
+      if (m->body_cap[b] == m->body_cap[b + 1] || nprim == 0) continue;
+      body_bounds(m, s->W + 4 * b, b, plb);
+      long long first = 0;
+      for (long long p = 1; p < nprim; ++p) if (plb[p] < plb[first]) first = p;
+      if (plb[first] < k->bo[b]) body_prim(m, s, b, first, k);
+      for (long long p = 0; p < nprim; ++p)
+        if (p != first && plb[p] < k->bo[b]) body_prim(m, s, b, p, k);
+    }
+    for (long long pr = 0; pr < m->npair; ++pr) {
+      long long bi = m->pair[2 * pr], bj = m->pair[2 * pr + 1];
+      double thr = k->bs[bi] > k->bs[bj] ? k->bs[bi] : k->bs[bj];
+      if (far_apart(dist2(s->W + 4 * bi, s->W + 4 * bj), s->W[4 * bi + 3] + s->W[4 * bj + 3], thr)) continue;
+      body_pair(m, s, pr, k);
+    }
+    return;
+  }
+  /* the minimum: first the candidate that gave the previous configuration's (a tight start when
+     configurations come in order), then the candidates whose bounds come below the minimum so far,
+     the lowest bound first */
+  long long hint = s->hint;
+  if (hint != NO_HINT) candidate(m, s, hint, k);
+  double lo = HUGE_VAL;
+  long long first = -1;
+  for (long long b = 0; b <= m->last; ++b) {
+    if (m->body_cap[b] == m->body_cap[b + 1] || nprim == 0) continue;
+    body_bounds(m, s->W + 4 * b, b, plb);
+    for (long long p = 0; p < nprim; ++p) {
+      double lb = plb[p];
+      if (!(lb < k->best) || b * nprim + p == hint) continue;
+      if (lb < lo) { lo = lb; first = ncand; }
+      s->lb[ncand] = lb; s->code[ncand++] = b * nprim + p;
+    }
+  }
+  for (long long pr = 0; pr < m->npair; ++pr) {
+    const double *Wi = s->W + 4 * m->pair[2 * pr], *Wj = s->W + 4 * m->pair[2 * pr + 1];
+    double d2 = dist2(Wi, Wj), rr = Wi[3] + Wj[3];
+    if (-1 - pr == hint || far_apart(d2, rr, k->best)) continue;
+    double lb = sqrt(d2) - rr;
+    if (lb < lo) { lo = lb; first = ncand; }
+    s->lb[ncand] = lb; s->code[ncand++] = -1 - pr;
+  }
+  if (first >= 0) candidate(m, s, s->code[first], k);
+  for (long long i = 0; i < ncand; ++i)
+    if (i != first && s->lb[i] < k->best) candidate(m, s, s->code[i], k);
+  s->hint = k->code;
+}
+
+static void scratch_layout(const rmt_clear_model *m, double *buf, scratch *s)
+{
+  s->F = buf;
+  s->cs = s->F + 12 * LANES * m->nbody;
+  s->W = s->cs + 2 * LANES * (m->n > 0 ? m->n : 1);
+  s->plb = s->W + 4 * m->nbody;
+  s->C = (wcap *)(s->plb + m->nprim4);
+  s->lb = (double *)(s->C + m->ncap);
+  s->code = (long long *)(s->lb + m->nbody * m->nprim + m->npair);
+  s->hint = NO_HINT;
+}
+
+static size_t scratch_size(const rmt_clear_model *m)
+{
+  return sizeof(double) * (size_t)((12 * LANES + 4) * m->nbody + 2 * LANES * (m->n > 0 ? m->n : 1) + m->nprim4)
+       + sizeof(wcap) * (size_t)m->ncap
+       + (sizeof(double) + sizeof(long long)) * (size_t)(m->nbody * m->nprim + m->npair);
+}
+/* ---- entry points ------------------------------------------------------------------------------- */
+typedef struct {
+  const rmt_clear_model *m;
+  const double *Q;
+  int mode;
+  double cap;
+  double *dist, *pr, *po, *bo, *bs;
+  long long *body, *other;
+  int failed;
+} job;
+
+static void run_range(void *ctx, long long begin, long long end)
+{
+  job *J = (job *)ctx;
+  const rmt_clear_model *m = J->m;
+  double *buf = (double *)malloc(scratch_size(m));
+  if (buf == NULL) { __atomic_store_n(&J->failed, 1, __ATOMIC_RELAXED); return; }
+  scratch s;
+  scratch_layout(m, buf, &s);
+  long long B = m->nbody;
+  for (long long i0 = begin; i0 < end; i0 += LANES) {
+    int nl = end - i0 < LANES ? (int)(end - i0) : LANES;
+    frames(m, J->Q + m->n * i0, nl, &s);
+    for (int l = 0; l < nl; ++l) {
+      long long i = i0 + l;
+      place(m, l, &s);
+      sink k = { J->mode, J->cap, -1, -1, { NAN, NAN, NAN }, { NAN, NAN, NAN }, NULL, NULL, NO_HINT };
+      if (J->mode == RMT_MODE_PER_BODY) {
+        k.bo = J->bo + B * i;
+        k.bs = J->bs + B * i;
+        for (long long b = 0; b < B; ++b) k.bo[b] = k.bs[b] = J->cap;
+      }
+      pairs(m, &s, &k);
+      if (J->mode == RMT_MODE_PER_BODY) continue;
+      J->dist[i] = k.best;
+      if (J->mode == RMT_MODE_NEAREST) {
+        J->body[i] = k.body;
+        J->other[i] = k.other;
+        for (int c = 0; c < 3; ++c) { J->pr[3 * i + c] = k.pr[c]; J->po[3 * i + c] = k.po[c]; }
+      }
+    }
+  }
+  free(buf);
+}
+
+/* clearances of configurations Q (N × n, row-major) in `mode`: dist (N) [, body, other (N), pr, po
+   (N × 3)] or bo, bs (N × nbody); returns the threads that ran, or −1 when memory ran out */
+int rmt_clearance(const rmt_clear_model *m, const double *Q, long long N, int mode, double cap, int threads,
+                  double *dist, long long *body, long long *other, double *pr, double *po, double *bo, double *bs)
+{
+  job J = { m, Q, mode, cap, dist, pr, po, bo, bs, body, other, 0 };
+  long long chunks = (N + CHUNK - 1) / CHUNK;
+  if (threads > chunks) threads = (int)(chunks > 0 ? chunks : 1);
+  int ran = rmt_parallel_for(N, CHUNK, threads, run_range, &J);
+  return J.failed ? -1 : ran;
+}
+
+/* the minimum clearance of one configuration q (n): the validity checker's call.  NaN when q holds a
+   non-finite value or a prismatic value beyond its bound (the caller then reports why). */
+double rmt_clear_one(const rmt_clear_model *m, const double *q, double cap)
+{
+  for (long long j = 0; j < m->n; ++j)
+    if (!(fabs(q[j]) <= m->dh[8 * j + 6])) return NAN;
+  double local[4096];
+  size_t need = scratch_size(m);
+  double *buf = need <= sizeof local ? local : (double *)malloc(need);
+  if (buf == NULL) return NAN;
+  scratch s;
+  scratch_layout(m, buf, &s);
+  frames(m, q, 1, &s);
+  place(m, 0, &s);
+  sink k = { RMT_MODE_MIN, cap, -1, -1, { 0, 0, 0 }, { 0, 0, 0 }, NULL, NULL, NO_HINT };
+  pairs(m, &s, &k);
+  if (buf != local) free(buf);
+  return k.best;
+}
