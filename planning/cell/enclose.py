@@ -198,7 +198,7 @@ def enclose_triangles(T: np.ndarray, tolerance: float, max_spheres: int) -> Sphe
     if not (tolerance > 0 and max_spheres >= 1):
         raise ValueError("tolerance must be > 0 and max_spheres ≥ 1")
     # 1. cut large triangles, within a budget of pieces a few times the spheres'
-    T = subdivide(T, tolerance, min(MAX_PIECES, max(len(T), PIECES_PER_SPHERE * max_spheres)))
+    T = subdivide(T, 0.5 * tolerance, min(MAX_PIECES, max(len(T), PIECES_PER_SPHERE * max_spheres)))
     balls = triangle_balls(T)
     # 2. split the worst cluster until all are within tolerance or the budget is spent
     centroids = T.mean(axis=1)

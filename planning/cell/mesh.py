@@ -83,6 +83,11 @@ def load_mesh(path: str | Path, label: str = "mesh") -> np.ndarray:
         raise CellError(f"{label}: {path.name}: mesh files must be {', '.join(s[1:].upper() for s in MESH_SUFFIXES)} "
                         f"(suffix {', '.join(MESH_SUFFIXES)})")
     data = read_bytes(path, label, "mesh")
+    if suffix == ".ply":
+        counts = ply_header(data, label, path.name)
+        if counts.get("vertex", 0) and not counts.get("face", 0):
+            raise CellError(f"{label}: {path.name} is not a triangle mesh: it has vertices but no faces "
+                            f"(a point cloud? use type = \"point_cloud\")")
     announced = _count_triangles(data, suffix, label, path.name)
     if announced > MAX_TRIANGLES:
         raise CellError(f"{label}: {path.name} has {announced} triangles; at most {MAX_TRIANGLES} "

@@ -67,7 +67,8 @@ class Cell:
     :data:`TOOL_BODY` until resolved; ``body_pairs``: pairs of body names never checked against each
     other; ``obstacle_pairs``: (obstacle name, body name) pairs never checked; ``notes``: a line per
     obstacle saying where its spheres come from (meshes, point clouds), for reports; ``path``: the
-    file read, if any.
+    file read, if any; ``length_unit``: the file's (values here are SI); ``source``: what the cell was
+    read from when not a file (for messages).
     """
 
     name: str
@@ -79,6 +80,7 @@ class Cell:
     notes: dict[str, str] = field(default_factory=dict)
     path: Path | None = None
     length_unit: str = "m"
+    source: str = ""
 
     def __post_init__(self):
         where = self.where
@@ -106,8 +108,8 @@ class Cell:
     # ---- what it holds ------------------------------------------------------------------------
     @property
     def where(self) -> str:
-        """The file, or the cell's name, for messages."""
-        return str(self.path) if self.path is not None else (self.name or "cell")
+        """The file (or what the cell was read from), else the cell's name, for messages."""
+        return str(self.path) if self.path is not None else (self.source or self.name or "cell")
 
     def obstacle(self, name: str) -> Obstacle:
         """The obstacle named ``name``."""

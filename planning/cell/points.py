@@ -74,9 +74,13 @@ def _is_number(field: str) -> bool:
 
 def _csv(data: bytes, label: str, name: str) -> np.ndarray:
     # count before parsing: lines, less those that start a comment or are blank (at a line's start)
-    rows = data.count(b"\n") + 1 - data.count(b"\n#") - data.count(b"\n\n")
-    if rows > MAX_POINTS + 1:                   # + a header row
-        raise _too_many(label, name, rows - 1)
+    rows = (data.count(b"\n") + (not data.endswith(b"\n")) - data.count(b"\n#") - data.count(b"\n\n")
+            - data.startswith(b"#"))
+    first = data[:data.find(b"\n")] if b"\n" in data else data
+    if not any(ch in first for ch in b"0123456789"):    # a header row of names
+        rows -= 1
+    if rows > MAX_POINTS:
+        raise _too_many(label, name, rows)
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError:

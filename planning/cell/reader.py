@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 import tomllib
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -353,7 +354,7 @@ def parse_cell(text: str, where: str = "cell", base_dir: str | Path | None = Non
         else:
             body_pairs.append((a, b))
     return Cell(name, tuple(obstacles), base, tuple(tool), tuple(body_pairs), tuple(pairs_ob), notes,
-                length_unit=unit)
+                length_unit=unit, source=where)
 
 
 def load_cell(path: str | Path) -> Cell:
@@ -366,6 +367,4 @@ def load_cell(path: str | Path) -> Cell:
         raise CellError(f"{path}: no such cell file") from None
     except (OSError, UnicodeDecodeError) as e:
         raise CellError(f"{path}: cannot read ({e})") from None
-    cell = parse_cell(text, str(path), path.parent)
-    return Cell(cell.name, cell.obstacles, cell.base, cell.tool, cell.body_pairs, cell.obstacle_pairs, cell.notes,
-                path, cell.length_unit)
+    return replace(parse_cell(text, str(path), path.parent), path=path)
