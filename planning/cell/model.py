@@ -130,25 +130,29 @@ class Cell:
 
     def summary(self) -> list[str]:
         """One line per obstacle (kind, primitives, over-estimate, who may touch it) and per tool shape."""
-        out = [f"cell {self.name!r}: {len(self.obstacles)} obstacles, {self.n_primitives} primitives, "
-               f"tool {len(self.tool)} capsules"]
         touch: dict[str, list[str]] = {}
         for ob_name, body in self.obstacle_pairs:
             touch.setdefault(ob_name, []).append(body)
+        return self._lines(touch, self.body_pairs)
+
+    def _lines(self, touch: dict[str, list[str]], never: tuple[tuple[str, str], ...]) -> list[str]:
+        out = [f"cell {self.name!r}: {len(self.obstacles)} obstacles, {self.n_primitives} primitives, "
+               f"tool {len(self.tool)} shapes"]
         for ob in self.obstacles:
             line = f"  {ob.name}: {ob.kind or 'obstacle'}, {ob.n_primitives} primitive(s)"
             if ob.over_estimate >= 5e-5:
                 line += f", spheres stand out ≤ {ob.over_estimate * 1000:.1f} mm"
             if ob.name in self.notes:
                 line += f" ({self.notes[ob.name]})"
-            if ob.name in touch:
+            if touch.get(ob.name):
                 line += f"; may touch: {', '.join(touch[ob.name])}"
             out.append(line)
         for c in self.tool:
-            out.append(f"  tool {c.name or 'capsule'}: radius {c.radius * 1000:.1f} mm, "
-                       f"length {c.length * 1000:.1f} mm")
-        if self.body_pairs:
-            out.append("  never checked: " + "; ".join(f"{a} – {b}" for a, b in self.body_pairs))
+            shape = f"sphere radius {c.radius * 1000:.1f} mm" if c.length == 0 else \
+                f"capsule radius {c.radius * 1000:.1f} mm, length {c.length * 1000:.1f} mm"
+            out.append(f"  tool shape {c.name or 'tool'!r}: {shape}")
+        if never:
+            out.append("  never checked against each other: " + "; ".join(f"{a} – {b}" for a, b in never))
         return out
 
     # ---- tying it to a robot ------------------------------------------------------------------
@@ -232,10 +236,9 @@ class ResolvedCell:
     def describe(self) -> list[str]:
         """Lines for reports: the cell's summary, then who is checked against what."""
         names = self.body_names
-        out = self.cell.summary()
-        for ob in self.obstacles:
-            if ob.ignore:
-                out.append(f"  {ob.name} is not checked against: {', '.join(names[b] for b in sorted(ob.ignore))}")
+        touch = {ob.name: [names[b] for b in sorted(ob.ignore)] for ob in self.obstacles}
+        extra = sorted(self.geometry.allowed)
+        out = self.cell._lines(touch, tuple((names[i], names[j]) for i, j in extra))
         out.append(f"  self-collision pairs checked: {len(self.self_pairs)}; body–obstacle pairs checked: "
                    f"{len(self.obstacle_pairs())}")
         if self.cell.over_estimate >= 5e-5:

@@ -57,7 +57,8 @@ def test_names_become_bodies(fanuc):
     assert len(r.geometry.capsules) == len(fanuc.geometry.capsules) + 1
     checked = r.obstacle_pairs()
     assert (0, 0) not in checked and (2, 0) in checked and (n + 1, 1) not in checked and (3, 1) in checked
-    assert any("part is not checked against: link 2 (J2), link 6 (J6), tool" in line for line in r.describe())
+    assert any(line.endswith("part: sphere, 1 primitive(s); may touch: link 2 (J2), link 6 (J6), tool")
+               for line in r.describe())
 
 
 def test_the_base_places_the_robot(fanuc):
