@@ -4,11 +4,13 @@
 is convex: a ball that holds the corners of a set of triangles holds the triangles.  The cover is
 built in three steps:
 
-1. triangles larger than the wanted size are cut in two at the midpoint of their longest edge (the
-   two pieces are the triangle exactly), largest first, within a budget of pieces;
+1. triangles whose smallest enclosing ball is wider than half the ``tolerance`` are cut in two at
+   the midpoint of their longest edge (the two pieces are the triangle exactly), largest first,
+   within a budget of :data:`PIECES_PER_SPHERE` pieces per sphere;
 2. the pieces are split into clusters, top down: the cluster that stands out most is cut in two at
-   the median of its pieces' centroids along its longest side, until every cluster's sphere stands
-   out less than ``tolerance`` or there are ``max_spheres`` clusters;
+   the middle of its pieces' centroids along x, y or z (whichever leaves halves that stand out
+   less), until every cluster's sphere stands out at most ``tolerance`` or there are
+   ``max_spheres`` clusters;
 3. each cluster gets the sphere centred on its corners' bounding box that reaches its farthest
    corner (a lone triangle gets its smallest enclosing ball: the circumcircle of an acute triangle,
    the longest edge's midpoint otherwise), its radius rounded up by :data:`PAD`.
@@ -26,7 +28,8 @@ along the whole motion, but a configuration that *starts* inside is not seen.
 ``merge``, the points are gathered in cubes of edge ``point_radius`` and each cube's points become one
 sphere centred on their bounding box, radius ρ + ``point_radius`` (ρ: the farthest point from the
 centre), which holds each of their balls; it stands out of those balls by at most ρ + the distance
-from its centre to the nearest of its points.  Without ``merge`` every point is a sphere (over-estimate 0).
+from its centre to the nearest of its points.  Without ``merge`` every point is a sphere (standing out
+by the rounding :data:`PAD` only).
 
 Everything here is numpy on SI arrays; the readers of :mod:`planning.cell.mesh` and
 :mod:`planning.cell.points` bound the sizes before this module sees them.
@@ -227,6 +230,8 @@ def enclose_triangles(T: np.ndarray, tolerance: float, max_spheres: int) -> Sphe
     for k, c in enumerate(clusters):
         owner[c.idx] = k
     dist = _distance(T, centres[owner])
+    corner = np.sqrt(np.min(np.einsum("ijk,ijk->ij", T - centres[owner][:, None], T - centres[owner][:, None]), axis=1))
+    dist = np.where(np.isfinite(dist), np.minimum(dist, corner), corner)    # never above a corner's distance
     dmin = np.full(len(clusters), np.inf)
     np.minimum.at(dmin, owner, dist)
     over = float(np.max(radii + dmin))
