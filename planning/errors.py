@@ -10,3 +10,8 @@ class WindowError(RmtError, ValueError):
 
 class PlanningError(RmtError):
     """A planning request is invalid (start/goal out of limits or inside a window, bad planner)."""
+
+
+class CellError(PlanningError):
+    """A work-cell file (or a mesh or point cloud it names) is missing or invalid, or names a body
+    the robot does not have (:mod:`planning.cell`)."""

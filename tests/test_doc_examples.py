@@ -12,7 +12,7 @@ Every fenced block of those pages is checked by its language:
   must name a module that exists and ``$ make TARGET`` lines a target of the Makefile; they are not
   run (benchmarks take minutes);
 * ``toml``: the block is a file of a documented kind, read by rmtkit's own reader for that kind
-  (robot file, study file, design task, sweep file, tool path, keep-out boxes);
+  (robot file, study file, design task, sweep file, tool path, keep-out boxes, work cell);
 * ``text`` and unlabelled blocks are printed output or a listing: not run.
 
 Any other language fails, so that no new block goes unchecked.
@@ -178,10 +178,14 @@ def _read_toml_example(text: str, tmp_path: Path):
         from planning.toolpath import parse_toolpath_toml
         robot = re.search(r'^robot = "(\w+)"', text, re.M)
         return parse_toolpath_toml(text, kin.load_robot(robot.group(1) if robot else "fanuc_m16ib20"))
+    if "[[obstacle]]" in text or "[[tool]]" in text:
+        # a cell's meshes are named as the bundled cell names its own: next to it
+        from planning.cell import parse_cell
+        return parse_cell(text, "<cell file example>", base_dir=ROOT / "studies" / "cells")
     if "[[box]]" in text:
         from planning.ompl.keep_out import parse_keep_out
         return parse_keep_out(text, "m")
-    raise AssertionError("a TOML example of no known kind (robot, study, task, sweep, tool path, keep-out)")
+    raise AssertionError("a TOML example of no known kind (robot, study, task, sweep, tool path, keep-out, cell)")
 
 
 @pytest.mark.parametrize("page, text, line", TOML, ids=[_id(p, ln) for p, _, ln in TOML])

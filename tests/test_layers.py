@@ -32,8 +32,8 @@ STUDIES_PARTS = {
     "studies.cli": {"studies", "studies.study", "studies.report", "studies.plots", "studies.toolpaths",
                     "studies.bundled"},
 }
-#: folders of ``studies`` that hold data only, no Python: bundled sweep files, design tasks
-STUDIES_DATA = {"studies.sweeps", "studies.tasks"}
+#: folders of ``studies`` that hold data only, no Python: bundled sweep files, design tasks, work cells
+STUDIES_DATA = {"studies.sweeps", "studies.tasks", "studies.cells"}
 
 
 def _modules() -> dict[str, Path]:
