@@ -1,0 +1,5 @@
+"""Collisions: a robot in its work cell (:class:`CollisionWorld`), built from a cell file
+(:func:`collision_world`); the proofs that use it are in :mod:`planning.certify.collision`."""
+from planning.collision.world import MAX_MARGIN, CollisionWorld, collision_world
+
+__all__ = ["CollisionWorld", "MAX_MARGIN", "collision_world"]

@@ -1,0 +1,111 @@
+"""`CollisionWorld`: a robot placed in a work cell, ready to answer "how clear is it here?".
+
+It joins the robot's capsules (:attr:`kin.Robot.geometry`, plus the cell's tool), the cell's
+obstacles and allowed pairs, and where the cell puts the robot, into one compiled
+:class:`kin.geometry.ClearanceModel`; and it holds the motion bound of the proofs
+(:func:`kin.geometry.reach_radii`, :mod:`planning.certify.collision`).  ``margin`` is the clearance
+a state needs to count as clear (m, ≥ 0): 0 means "not touching".
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from kin.geometry import ClearanceModel, RobotGeometry, body_names, reach_radii
+from kin.geometry.adjacency import always_touching_pairs
+from kin.validation import is_real
+from planning.errors import PlanningError
+
+__all__ = ["CollisionWorld", "MAX_MARGIN"]
+
+#: the largest required clearance (m)
+MAX_MARGIN = 1.0
+
+
+class CollisionWorld:
+    """A robot in a cell (or alone: self-collision only).
+
+    ``geometry``: the robot's capsules with the tool's (default ``robot.geometry``); ``obstacles``:
+    :class:`kin.geometry.Obstacle` in world coordinates; ``base``: the robot's placement in the
+    world (4×4; identity by default); ``margin``: the clearance a state needs (m); ``name``: what
+    messages call the cell.  Usually built by :func:`planning.collision.collision_world`.
+    """
+
+    def __init__(self, robot, geometry: RobotGeometry | None = None, obstacles=(), base=None,
+                 margin: float = 0.0, name: str = "", cap: float = 1.0):
+        if not (is_real(margin) and math.isfinite(margin) and 0 <= margin <= MAX_MARGIN):
+            raise PlanningError(f"required clearance {margin!r} must be a number in [0, {MAX_MARGIN:g}] m")
+        self.robot = robot
+        self.chain = robot.chain
+        geometry = robot.geometry if geometry is None else geometry
+        #: pairs found touching in every sampled configuration, and so not checked (see
+        #: :mod:`kin.geometry.adjacency`)
+        self.auto_allowed = tuple(always_touching_pairs(robot.chain, geometry))
+        self.geometry = geometry.with_allowed(self.auto_allowed) if self.auto_allowed else geometry
+        self.obstacles = tuple(obstacles)
+        self.base = np.eye(4) if base is None else np.asarray(base, dtype=float)
+        self.margin = float(margin)
+        self.name = name
+        self.cap = max(float(cap), 2 * self.margin + 0.1)
+        n = self.chain.n
+        self.body_names = body_names(self.chain)
+        self.pairs = self.geometry.checked_pairs(n)
+        self.model = ClearanceModel(self.chain, self.geometry, self.obstacles, base=self.base,
+                                    self_pairs=self.pairs, cap=self.cap)
+        self.radii = reach_radii(self.chain, self.geometry)              # (n, B)
+        B = n + 2
+        partners = np.zeros((B, B), bool)
+        for i, j in self.pairs:
+            partners[i, j] = partners[j, i] = True
+        self.partners = partners
+
+    def __repr__(self) -> str:
+        return (f"CollisionWorld({self.chain.name!r}, {len(self.obstacles)} obstacles, "
+                f"{len(self.geometry.capsules)} capsules, {len(self.pairs)} self pairs)")
+
+    # ---- evaluation ---------------------------------------------------------------------------
+    def clearance(self, Q):
+        """Signed clearance (m) of configurations (N, n) → (N,), or of one (n,) → float."""
+        return self.model.clearance(Q)
+
+    def per_body(self, Q) -> tuple[np.ndarray, np.ndarray]:
+        """Per body (N, B): clearance against obstacles and against the other bodies."""
+        Q = np.atleast_2d(np.asarray(Q, dtype=float))
+        return self.model.per_body(Q)
+
+    def nearest(self, Q):
+        """The closest pair per configuration (:class:`kin.geometry.Contact` of arrays)."""
+        return self.model.nearest(np.atleast_2d(np.asarray(Q, dtype=float)))
+
+    def state_clear(self, q) -> bool:
+        """Whether one configuration (a sequence of n floats) is clear by more than the margin."""
+        return self.model.clear_one(q) > self.margin
+
+    # ---- words --------------------------------------------------------------------------------
+    def other_name(self, other: int) -> str:
+        if other >= 0:
+            return f"obstacle '{self.obstacles[other].name}'"
+        return self.body_names[-1 - other]
+
+    def describe(self, body: int, other: int, clearance: float) -> str:
+        """E.g. ``link 4 (J4) against obstacle 'fixture': 12.3 mm deep``."""
+        what = f"{self.body_names[body]} against {self.other_name(other)}"
+        if clearance < 0:
+            return f"{what}: {-clearance * 1e3:.3g} mm deep"
+        if clearance <= self.margin:
+            return f"{what}: {clearance * 1e3:.3g} mm apart, within the required {self.margin * 1e3:.3g} mm"
+        return f"{what}: {clearance * 1e3:.4g} mm apart"
+
+
+def collision_world(robot, cell=None, margin: float = 0.0, obstacles=()) -> CollisionWorld:
+    """The robot in ``cell`` (a :class:`planning.cell.Cell`, or a path to a cell file; None: the
+    robot alone, self-collision only), plus further ``obstacles``; ``margin``: the clearance a
+    state needs (m)."""
+    if cell is None:
+        return CollisionWorld(robot, obstacles=obstacles, margin=margin)
+    from planning.cell import Cell, load_cell
+    if not isinstance(cell, Cell):
+        cell = load_cell(cell)
+    r = cell.resolve(robot)
+    return CollisionWorld(robot, r.geometry, (*r.obstacles, *obstacles), r.base, margin, cell.name)
