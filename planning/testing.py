@@ -21,7 +21,11 @@ What is checked, and how:
   the proof cannot settle is checked densely as well, and the assertion says which was used;
 * a σ_min floor: proven along every segment (:func:`planning.certify.certify_sigma`), sampled where
   the bound cannot settle a segment;
-* keep-out boxes: densely, at ``step`` (default 0.1° / 0.1 mm between states).
+* keep-out boxes: densely, at ``step`` (default 0.1° / 0.1 mm between states);
+* collisions with a work cell and self-collisions (``world``, a
+  :class:`planning.collision.CollisionWorld`): proven for every segment
+  (:func:`planning.certify.collision.certify_collision`), the message naming the link, the obstacle
+  (or other link) and how deep; a segment the proof cannot settle is checked densely.
 """
 from __future__ import annotations
 
@@ -32,6 +36,7 @@ import numpy as np
 from kin.errors import ConfigurationError
 from kin.validation import is_real
 from planning.certify import certify_path, certify_sigma
+from planning.certify.collision import certify_collision
 from planning.ompl.validity import JointSpaceChecker
 from planning.toolpath.check import validate_toolpath
 from planning.validate import DEFAULT_STEP_ANGLE, DEFAULT_STEP_LENGTH, check_path, densify
@@ -54,13 +59,14 @@ def _where(segment: int, t: float, last: int) -> str:
 
 
 def assert_path_valid(robot, path, windows=None, sigma_floor: float | None = None, keep_out=(),
-                      step: float | None = None, limit_tol: float = 1e-9) -> None:
+                      step: float | None = None, limit_tol: float = 1e-9, world=None) -> None:
     """Raise :class:`AssertionError` naming the first violation of the joint path ``path`` (M, n),
     SI, for ``robot``: joint limits, the singular ``windows`` (a WindowSet; proven segment by
     segment), a ``sigma_floor`` on σ_min, ``keep_out`` boxes (:class:`planning.ompl.KeepOutBox`;
     the tool point, and every joint-frame origin for a box with ``all_frames``).  ``step``: the joint
     step of the dense checks (rad for revolute joints; prismatic joints use ``step`` × 1 m/rad …
-    default 0.1° and 0.1 mm)."""
+    default 0.1° and 0.1 mm); ``world``: a :class:`planning.collision.CollisionWorld` (the robot in
+    its work cell) whose obstacles and self-collisions the path must be proven clear of."""
     chain = robot.chain
     P = np.asarray(path, dtype=float)
     if P.ndim != 2 or P.shape[1] != chain.n or len(P) == 0:
@@ -122,6 +128,19 @@ def assert_path_valid(robot, path, windows=None, sigma_floor: float | None = Non
                                 f"{sigma_floor:.4g} by {sigma_floor - s:.3g} (proven)"))
         for k in sp.unproven:             # segments the bound could not settle: sampled
             chk = check_path(robot, P[k:k + 2], None, sigma_floor, step_angle, step_length, prove=False)
+            if not chk.valid:
+                found.append((k, 0.5, f"segment {k} → {k + 1}: {chk.first_violation.detail} (sampled)"))
+                break
+    if world is not None:
+        if world.chain != chain:
+            raise ConfigurationError(f"the collision world is for {world.chain.name}, not {chain.name}")
+        cp = certify_collision(world, P)
+        if cp.violation is not None:
+            v = cp.violation
+            found.append((v.segment, v.t, f"{_where(v.segment, v.t, len(P) - 1)}, q = {_q_text(chain, v.q)}: "
+                                          f"collision: {v.text} (proven)"))
+        for k in cp.unproven:             # pieces the bound could not settle (a graze): sampled
+            chk = check_path(robot, P[k:k + 2], None, None, step_angle, step_length, prove=False, world=world)
             if not chk.valid:
                 found.append((k, 0.5, f"segment {k} → {k + 1}: {chk.first_violation.detail} (sampled)"))
                 break

@@ -20,6 +20,12 @@ result says how the windows were decided (``windows_check``: ``"proven"``, ``"sa
 proof could not settle a segment, or None without windows); the first window violation is the
 earlier of the proof's and the samples'.  A σ_min floor is proven the same way (Weyl's inequality
 and a Lipschitz bound of the Jacobian, :func:`planning.certify.certify_sigma`; ``sigma_check``).
+
+With a collision world (``world``, :class:`planning.collision.CollisionWorld`: a robot in a work
+cell) every dense state's clearance is computed (``min_clearance``, the smallest, in m, and its row)
+and every segment is proven clear of the cell and of the robot itself, or its first colliding state
+found (:func:`planning.certify.collision.certify_collision`; ``collision_check``, ``"proven"`` or
+``"sampled"``; violation kind ``"collision"`` naming the link, the obstacle and how deep).
 """
 from __future__ import annotations
 
@@ -30,6 +36,7 @@ import numpy as np
 
 from kin.errors import ConfigurationError
 from planning.certify import PathProof, certify_path, certify_sigma
+from planning.certify.collision import CollisionProof, certify_collision
 from planning.windows import WindowSet
 
 DEFAULT_STEP_ANGLE = math.radians(0.1)   # rad
@@ -39,7 +46,7 @@ STEP_ANGLE_RANGE = (1e-6, math.radians(5.0))
 STEP_LENGTH_RANGE = (1e-7, 1e-2)
 #: the most dense states one check evaluates (σ_min runs at about 10⁶ states/s)
 MAX_CHECK_STATES = 20_000_000
-KINDS = ("nonfinite", "continuity", "limits", "window", "sigma_min")
+KINDS = ("nonfinite", "continuity", "limits", "window", "sigma_min", "collision")
 
 
 @dataclass(frozen=True)
@@ -64,9 +71,14 @@ class PathCheck:
     windows_check: str | None = None     # "proven", "sampled" (not every segment proven) or None (no windows)
     sigma_check: str | None = None       # the same for the σ_min floor (None: no floor)
     proof: PathProof | None = field(default=None, repr=False, compare=False)   # the windows' proof (prove=True)
+    min_clearance: float | None = None   # smallest clearance at a dense state (m; None: no collision world)
+    min_clearance_index: int = -1        # its row (segment)
+    collision_check: str | None = None   # "proven", "sampled" or None (no collision world)
+    clearance_bound: float | None = None  # proven lower bound on the clearance along the path (m)
+    collision_proof: CollisionProof | None = field(default=None, repr=False, compare=False)
 
     def to_dict(self) -> dict:
-        d = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "proof"}
+        d = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ("proof", "collision_proof")}
         d["first_violation"] = None if self.first_violation is None else asdict(self.first_violation)
         return d
 
@@ -128,12 +140,13 @@ def _label(i: int, f: float) -> str:
 def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float | None = None,
                step_angle: float = DEFAULT_STEP_ANGLE, step_length: float = DEFAULT_STEP_LENGTH,
                max_step: float | None = None, limit_tol: float = 1e-9, chunk: int = 200_000,
-               prove: bool = True) -> PathCheck:
+               prove: bool = True, world=None) -> PathCheck:
     """Check a joint path (M, n), SI units, densely — and the windows by proof unless ``prove`` is
     False.  See the module docstring.
 
     ``max_step``: largest allowed joint change between consecutive rows (rad or m; None: not checked,
     only reported).  ``sigma_min``: a floor on σ_min of the task Jacobian along the whole path.
+    ``world``: a :class:`planning.collision.CollisionWorld` to be clear of (by its margin).
     """
     chain = robot.chain
     P = np.asarray(path, dtype=float)
@@ -148,6 +161,8 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
         raise ConfigurationError(f"σ_min floor {sigma_min} must be a finite number ≥ 0")
     if windows is not None:
         windows.check_robot(robot)
+    if world is not None and world.chain != chain:
+        raise ConfigurationError(f"the collision world is for {world.chain.name}, not {chain.name}")
     first: Violation | None = None
 
     def note(v: Violation) -> None:
@@ -175,7 +190,19 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
     lo, hi = chain.lower - limit_tol, chain.upper + limit_tol
     found: dict[str, Violation] = {}
     sig_min, sig_seg = math.inf, -1
+    clear_min, clear_seg = math.inf, -1
     for Q, seg, frac in dense_chunks(P, counts, chunk):
+        if world is not None:
+            c = world.clearance(Q)
+            kc = int(np.argmin(c))
+            if c[kc] < clear_min:
+                clear_min, clear_seg = float(c[kc]), int(seg[kc])
+            if "collision" not in found and (c <= world.margin).any():
+                k = int(np.argmax(c <= world.margin))
+                ct = world.nearest(Q[k:k + 1])
+                what = world.describe(int(ct.body[0]), int(ct.other[0]), float(ct.clearance[0]))
+                found["collision"] = Violation(int(seg[k]), "collision",
+                                               f"in collision: {what} {_label(int(seg[k]), float(frac[k]))}")
         if "limits" not in found:
             out = (Q < lo) | (Q > hi)
             if out.any():
@@ -223,7 +250,19 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
                     found["sigma_min"] = Violation(k, "sigma_min", f"σ_min = {s:.3g} < {sigma_min:.3g} {_label(k, f)} "
                                                    "(proven)")
             sigma_check = "proven" if sp.proven or sp.violation is not None else "sampled"
-    for kind in ("limits", "window", "sigma_min"):
+    collision_check, cproof, bound = None, None, None
+    if world is not None:
+        collision_check = "sampled"
+        if prove:
+            cproof = certify_collision(world, P)
+            v = cproof.violation
+            if v is not None and ("collision" not in found or v.segment < found["collision"].index):
+                found["collision"] = Violation(v.segment, "collision", f"in collision: {v.text} "
+                                               f"{_label(v.segment, v.t)} (proven)")
+            collision_check = "proven" if cproof.proven or v is not None else "sampled"
+            bound = cproof.bound if cproof.proven else None
+    for kind in ("limits", "window", "sigma_min", "collision"):
         if kind in found:
             note(found[kind])
-    return PathCheck(first is None, first, sig_min, sig_seg, max_step_seen, total, windows_check, sigma_check, proof)
+    return PathCheck(first is None, first, sig_min, sig_seg, max_step_seen, total, windows_check, sigma_check, proof,
+                     None if world is None else clear_min, clear_seg, collision_check, bound, cproof)

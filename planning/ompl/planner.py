@@ -87,8 +87,15 @@ class PlanResult:
 
     @property
     def proven(self) -> bool:
-        """True when the returned path is proven clear of every window (not only sampled)."""
-        return self.success and self.proof is not None and self.proof.proven
+        """True when the returned path is proven clear of every window — and, in a work cell, of every
+        collision — not only sampled."""
+        return (self.success and self.proof is not None and self.proof.proven
+                and (self.check is None or self.check.collision_check in (None, "proven")))
+
+    @property
+    def min_clearance(self) -> float | None:
+        """The smallest clearance along the returned path (m; None without a work cell)."""
+        return None if self.check is None else self.check.min_clearance
 
     def to_dict(self) -> dict:
         return {"success": self.success, "path": self.path.tolist(), "planner": self.planner,
@@ -96,9 +103,10 @@ class PlanResult:
                 "min_sigma": None if not math.isfinite(self.min_sigma) else self.min_sigma,
                 "status": self.status, "straight_line_valid": self.straight_line_valid,
                 "check": None if self.check is None else self.check.to_dict(), "attempts": self.attempts,
-                "proven": self.proven,
+                "proven": self.proven, "min_clearance": self.min_clearance,
                 "proof": None if self.proof is None else
-                {"methods": self.proof.methods, "unproven_segments": len(self.proof.unproven)},
+                {"methods": self.proof.methods, "unproven_segments": len(self.proof.unproven),
+                 "collisions": None if self.check is None else self.check.collision_check},
                 "separation": None if self.separation is None else
                 {"joints": list(self.separation.joints), "windows": list(self.separation.windows),
                  "kind": self.separation.kind, "reason": self.separation.reason},
@@ -187,7 +195,7 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
          time_limit: float = 2.0, seed: int = 0, sigma_min: float | None = None,
          boxes: Sequence[KeepOutBox] = (), objective: str = "none", simplify: bool = True,
          check_step_angle: float = DEFAULT_STEP_ANGLE, check_step_length: float = DEFAULT_STEP_LENGTH,
-         motion_step: float | None = None) -> PlanResult:
+         motion_step: float | None = None, world=None) -> PlanResult:
     """Plan a joint path from ``start`` to ``goal`` (configurations, SI) — or to ``goal_pose`` (4×4) —
     that stays inside the limits, outside every window of ``windows`` (a WindowSet), above the
     σ_min floor and out of the keep-out boxes.
@@ -196,7 +204,10 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
     ``time_limit``: seconds for the planner; ``seed``: OMPL's RNG seed (same seed, same plan);
     ``objective``: ``"none"``, ``"length"`` or ``"singularity"`` (length + ∫ 1/σ_min; used by the
     optimising planners); ``motion_step``: joint step of the motion validator (default: a fifth
-    of the narrowest window width, at most 1°).
+    of the narrowest window width, at most 1°); ``world``: a
+    :class:`planning.collision.CollisionWorld` (the robot in its work cell) whose obstacles and
+    self-collisions the path must be proven clear of — every motion the planner keeps is proven
+    (:func:`planning.certify.collision.certify_collision`) and the returned path is proven again.
     """
     t0 = time.perf_counter()
     if objective not in OBJECTIVES:
@@ -207,7 +218,7 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
     chain = robot.chain
     start_q, _ = chain.as_batch(start, "start")
     start_q = start_q[0]
-    checker = JointSpaceChecker(robot, windows, sigma_min, boxes, motion_step)
+    checker = JointSpaceChecker(robot, windows, sigma_min, boxes, motion_step, world)
     checker.require_valid(start_q, "start")
     cells = free_cells(chain.lower, chain.upper, windows)
     goal_branch = None
@@ -231,7 +242,7 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
     straight = np.array([start_q, goal_q])
     # the cheap motion check first: the dense check (σ_min at every 0.1°) only when it passes
     straight_ok = checker.motion_valid(start_q, goal_q) \
-        and check_path(robot, straight, windows, sigma_min, check_step_angle, check_step_length).valid
+        and check_path(robot, straight, windows, sigma_min, check_step_angle, check_step_length, world=world).valid
     attempts: list[str] = []
     step = checker.motion_step
     for attempt in range(3):
@@ -240,13 +251,14 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
             attempts.append(f"{status}")
             break
         for cand in ([path, raw] if simplify else [raw]):
-            chk = check_path(robot, cand, windows, sigma_min, check_step_angle, check_step_length)
+            chk = check_path(robot, cand, windows, sigma_min, check_step_angle, check_step_length, world=world)
             box_row = _box_violation(robot, checker, cand, check_step_angle, check_step_length) \
                 if chk.valid and checker.boxes else None
             if chk.valid and box_row is None:       # check_path proved the windows (chk.proof)
                 proof = chk.proof
                 attempts.append(f"{status}; dense check passed; windows "
-                                + ("proven clear" if proof.proven else f"sampled on {len(proof.unproven)} segment(s)"))
+                                + ("proven clear" if proof.proven else f"sampled on {len(proof.unproven)} segment(s)")
+                                + ("" if world is None else f"; collisions {chk.collision_check}"))
                 return PlanResult(True, cand, cls.__name__, time.perf_counter() - t0, path_length(cand),
                                   chk.min_sigma, chk, status, straight_ok, goal_q, attempts, proof=proof,
                                   goal_branch=goal_branch)

@@ -1,11 +1,15 @@
-"""State and motion validity in joint space: limits, singular windows, a σ_min floor, keep-out boxes.
+"""State and motion validity in joint space: limits, singular windows, a σ_min floor, keep-out
+boxes, collisions with the work cell and the robot itself.
 
 :class:`JointSpaceChecker` answers OMPL's two questions.  ``state_valid`` is on the planner's hot
 path and works on plain Python floats (interval windows are interval tests, other windows the
 scalar closure of their expression tree, :func:`kin.singular.evaluate.scalar_function`; σ_min only
 when a floor is set).  ``motion_valid`` checks a straight motion:
 its end states, the interval windows and limits exactly, and the other constraints as one numpy
-batch at a joint step finer than the narrowest window, so no window can be jumped.
+batch at a joint step finer than the narrowest window, so no window can be jumped.  With a
+:class:`planning.collision.CollisionWorld` a state must be clear by its margin (one call of the
+compiled clearance kernel) and a motion is valid only when it is *proven* clear
+(:func:`planning.certify.collision.certify_collision`), so every edge a planner keeps is proven.
 """
 from __future__ import annotations
 
@@ -15,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from kin.singular.evaluate import scalar_function
+from planning.certify.collision import certify_collision
 from planning.certify.segments import window_expression
 from planning.errors import PlanningError
 
@@ -40,8 +45,11 @@ class JointSpaceChecker:
     """Validity of configurations and straight motions for one robot and set of constraints."""
 
     def __init__(self, robot, windows=None, sigma_floor: float | None = None, boxes=(),
-                 motion_step: float | None = None):
+                 motion_step: float | None = None, world=None):
         self.robot = robot
+        self.world = world
+        if world is not None and world.robot.chain != robot.chain:
+            raise PlanningError(f"the collision world is for {world.robot.chain.name}, not {robot.chain.name}")
         self.chain = robot.chain
         self.n = robot.n
         self.windows = windows
@@ -108,6 +116,9 @@ class JointSpaceChecker:
                 return f"σ_min = {s:.3g} is below the floor {self.sigma_floor:.3g}"
         if self.boxes and self._in_box(np.asarray(q, dtype=float)[None]).any():
             return "inside a keep-out box"
+        if self.world is not None and not self.world.state_clear(q):
+            c = self.world.nearest(np.asarray(q, dtype=float)[None])
+            return "in collision: " + self.world.describe(int(c.body[0]), int(c.other[0]), float(c.clearance[0]))
         return None
 
     def state_valid(self, q) -> bool:
@@ -125,6 +136,8 @@ class JointSpaceChecker:
         if self.sigma_floor is not None and self.sigma(q) < self.sigma_floor:
             return False
         if self.boxes and self._in_box(np.asarray(q, dtype=float)[None]).any():
+            return False
+        if self.world is not None and not self.world.state_clear(q):
             return False
         return True
 
@@ -152,6 +165,8 @@ class JointSpaceChecker:
             ok[ok] = self.robot.sigma_min(Q[ok]) >= self.sigma_floor
         if self.boxes and ok.any():
             ok[ok] = ~self._in_box(Q[ok])
+        if self.world is not None and ok.any():
+            ok[ok] = self.world.clearance(Q[ok]) > self.world.margin
         return ok
 
     def motion_valid(self, a, b) -> bool:
@@ -162,7 +177,8 @@ class JointSpaceChecker:
         interval window [lo, hi] on joint j is entered exactly when the range of q_j along the motion
         overlaps it (q_j is linear in the motion parameter), so neither needs sampling.  Only the
         multi-joint windows, the σ_min floor and the keep-out boxes are checked at the states of
-        :meth:`motion_states` (a step finer than the narrowest window), as one numpy batch.
+        :meth:`motion_states` (a step finer than the narrowest window), as one numpy batch; the
+        collision world by proof (unproven counts as invalid).
         """
         a = [float(x) for x in a]
         b = [float(x) for x in b]
@@ -173,6 +189,8 @@ class JointSpaceChecker:
             for lo, hi in ivs:
                 if lo <= v and u <= hi:
                     return False
+        if self.world is not None and not certify_collision(self.world, [a, b], stop_at_first=True).proven:
+            return False
         if not (self._predicate_windows or self.sigma_floor is not None or self.boxes):
             return True
         Q = self.motion_states(a, b)[1:-1]          # the end states are already checked

@@ -36,6 +36,7 @@ import numpy as np
 
 from kin.errors import ConfigurationError, RmtError
 from kin.transforms import rotation_error
+from planning.certify.collision import certify_collision
 from planning.toolpath.ik import continuous_ik
 from planning.toolpath.model import ToolPath, ToolPathError
 from planning.toolpath.report import KINDS, Problem, ToolPathReport
@@ -71,7 +72,8 @@ def _max_speeds(chain, max_speed) -> np.ndarray:
 def validate_toolpath(robot, toolpath: ToolPath, windows: WindowSet | None = None, start_q=None,
                       branch_seed: int = 0, sigma_min: float | None = None, tol_position: float = 1e-6,
                       tol_orientation: float = 1e-6, max_joint_step=None, max_speed=None,
-                      limit_clearance: float = 0.0, mode: str = "auto", max_iter: int = 8) -> ToolPathReport:
+                      limit_clearance: float = 0.0, mode: str = "auto", max_iter: int = 8,
+                      world=None) -> ToolPathReport:
     """Validate ``toolpath`` for ``robot`` (see the module docstring).
 
     Parameters
@@ -90,6 +92,9 @@ def validate_toolpath(robot, toolpath: ToolPath, windows: WindowSet | None = Non
     mode : ``"pose"``, ``"position"`` or ``"auto"`` (pose when the path has orientations and the
         robot's task has all six rows).
     max_iter : LM iterations per waypoint of the first attempt (more on retries).
+    world : a :class:`planning.collision.CollisionWorld` (the robot in its work cell): every reachable
+        waypoint must be clear of it by its margin, and every joint motion between two reachable
+        waypoints is proven clear (:func:`planning.certify.collision.certify_collision`).
 
     Returns a :class:`ToolPathReport`.
     """
@@ -109,6 +114,8 @@ def validate_toolpath(robot, toolpath: ToolPath, windows: WindowSet | None = Non
         raise ConfigurationError(f"limit_clearance must be a finite number ≥ 0 (rad or m), got {limit_clearance}")
     if windows is not None:
         windows.check_robot(robot)
+    if world is not None and world.chain != chain:
+        raise ConfigurationError(f"the collision world is for {world.chain.name}, not {chain.name}")
     if mode == "auto":
         mode = "pose" if (toolpath.has_orientation and len(robot.task_rows) == 6) else "position"
     pose = mode == "pose"
@@ -163,6 +170,9 @@ def validate_toolpath(robot, toolpath: ToolPath, windows: WindowSet | None = Non
         speed_ratio = np.full(N, np.nan)
     step = np.where(reachable, step, np.nan)
 
+    clearance, collision, collision_check, coll_text = None, np.zeros(N, bool), None, {}
+    if world is not None:
+        clearance, collision, collision_check, coll_text = _collisions(world, Q, reachable)
     flags = {
         "unreachable": ~reachable,
         "branch_jump": jump & reachable,
@@ -170,6 +180,7 @@ def validate_toolpath(robot, toolpath: ToolPath, windows: WindowSet | None = Non
         "window": reachable & (win >= 0),
         "sigma_min": reachable & (sig < sigma_min) if sigma_min is not None else np.zeros(N, bool),
         "speed": reachable & (speed_ratio > 1.0),
+        "collision": collision,
     }
     first = None
     for k in KINDS:
@@ -179,9 +190,10 @@ def validate_toolpath(robot, toolpath: ToolPath, windows: WindowSet | None = Non
     problem = None
     if first is not None:
         i, k = first
-        detail = _detail(k, i, int(prev[i]), robot, Q, position_error, orientation_error, limit_margin, margins, sig,
-                         sigma_min, win, windows, qd, vmax, step, bound, tol_position, tol_orientation,
-                         limit_clearance, pose)
+        detail = coll_text[i] if k == "collision" else \
+            _detail(k, i, int(prev[i]), robot, Q, position_error, orientation_error, limit_margin, margins, sig,
+                    sigma_min, win, windows, qd, vmax, step, bound, tol_position, tol_orientation,
+                    limit_clearance, pose)
         problem = Problem(i, k, detail, float(s[i]), None if toolpath.t is None else float(toolpath.t[i]),
                           toolpath.origin(i))
     thresholds = {"tol_position": tol_position, "tol_orientation": tol_orientation, "sigma_min": sigma_min,
@@ -194,7 +206,50 @@ def validate_toolpath(robot, toolpath: ToolPath, windows: WindowSet | None = Non
                           limit_margin=limit_margin, sigma_min=sig, manipulability=man, window=win,
                           window_names=names, joint_speed=qd, speed_ratio=speed_ratio, joint_step=step, flags=flags,
                           first_problem=problem, thresholds=thresholds, elapsed_s=time.perf_counter() - t0,
-                          stats=stats, windows=windows, toolpath=toolpath)
+                          stats=stats, windows=windows, toolpath=toolpath, clearance=clearance,
+                          collision_check=collision_check)
+
+
+def _collisions(world, Q: np.ndarray, reachable: np.ndarray):
+    """Clearance per waypoint (NaN where unreachable), collision flags, how the motions between
+    waypoints were decided, and the text of each flagged waypoint.  A motion from waypoint i to i + 1
+    that is not proven clear flags waypoint i + 1 (the robot collides on its way there)."""
+    N = len(Q)
+    clearance = np.full(N, np.nan)
+    flags = np.zeros(N, bool)
+    text: dict[int, str] = {}
+    if reachable.any():
+        idx = np.flatnonzero(reachable)
+        clearance[idx] = world.clearance(Q[idx])
+        near = world.nearest(Q[idx])
+        for k, i in enumerate(idx):
+            if clearance[i] <= world.margin:
+                flags[i] = True
+                text[i] = "in collision: " + world.describe(int(near.body[k]), int(near.other[k]),
+                                                            float(near.clearance[k]))
+    check = "proven"
+    # runs of consecutive reachable waypoints: their joint motions are proven one run at a time
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], reachable.astype(int), [0]])))
+    for a, b in zip(edges[::2], edges[1::2]):
+        if b - a < 2:
+            continue
+        proof = certify_collision(world, Q[a:b])
+        v = proof.violation
+        if v is not None and v.t > 0:
+            i = a + v.segment + 1
+            if not flags[i]:
+                flags[i] = True
+                text[i] = (f"in collision on the way from waypoint {i - 1} (at {v.t:.3f} of the joint motion): "
+                           f"{v.text} (proven)")
+        if proof.unproven:
+            check = "sampled"
+            for k in proof.unproven:
+                i = a + k + 1
+                if not flags[i]:
+                    flags[i] = True
+                    text[i] = (f"the joint motion from waypoint {i - 1} grazes the cell: not proven clear "
+                               f"(clearance bound not settled)")
+    return clearance, flags, check, text
 
 
 def _detail(kind, i, ip, robot, Q, pe, oe, limit_margin, margins, sig, sigma_min, win, windows, qd, vmax, step,

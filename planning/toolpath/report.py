@@ -17,7 +17,7 @@ from planning.windows import WindowSet
 __all__ = ["ToolPathReport", "Problem", "KINDS"]
 
 #: problem kinds, in the order they rank at one waypoint
-KINDS = ("unreachable", "branch_jump", "limits", "window", "sigma_min", "speed")
+KINDS = ("unreachable", "branch_jump", "limits", "window", "sigma_min", "speed", "collision")
 
 
 @dataclass(frozen=True)
@@ -81,6 +81,8 @@ class ToolPathReport:
     stats: dict = field(default_factory=dict)
     windows: WindowSet | None = field(default=None, repr=False)
     toolpath: ToolPath | None = field(default=None, repr=False)
+    clearance: np.ndarray | None = None      # (N,) m per waypoint (NaN: unreachable); None without a work cell
+    collision_check: str | None = None       # "proven" / "sampled" between waypoints; None without a work cell
 
     # ---- summary ------------------------------------------------------------------------------
     @property
@@ -153,6 +155,9 @@ class ToolPathReport:
             "max_joint_step": float(np.nanmax(self.joint_step)) if np.isfinite(self.joint_step).any() else None,
             "max_joint_speed": np.abs(qd).max(axis=0).tolist() if len(qd) else None,
             "max_speed_ratio": float(sr.max()) if len(sr) else None,
+            "min_clearance": None if self.clearance is None else self._min(self.clearance)[0],
+            "min_clearance_index": None if self.clearance is None else self._min(self.clearance)[1],
+            "collision_check": self.collision_check,
             "windows": list(self.window_names),
             "waypoints_in_windows": int((self.window >= 0).sum()),
             "thresholds": self.thresholds, "elapsed_s": self.elapsed_s, "stats": self.stats,
@@ -169,6 +174,7 @@ class ToolPathReport:
                 "limit_margin": self.limit_margin, "sigma_min": self.sigma_min,
                 "manipulability": self.manipulability, "window": self.window,
                 "joint_speed": self.joint_speed, "speed_ratio": self.speed_ratio, "joint_step": self.joint_step,
+                "clearance": self.clearance,
                 "flags": {k: v for k, v in self.flags.items()}})
         return d
 
