@@ -151,3 +151,32 @@ def sampled_windows_note(ws, floor_hint: str) -> str | None:
     return (f"note: {len(sampled)} window{'s' if many else ''} of this robot {'are' if many else 'is'} sampled (its "
             f"singular set was found numerically){share}, so a path clear of them may still pass near or through "
             f"a singularity; {floor_hint}")
+
+
+def cell_args(sp) -> None:
+    """``--cell CELL.toml`` and ``--clearance D``: the work cell a command judges collisions in."""
+    sp.add_argument("--cell", metavar="CELL.toml",
+                    help="work cell (TOML, docs/cells.md): robot placement, obstacles, tool geometry, allowed "
+                         "pairs; collisions with it and self-collisions are checked (by proof for joint motions)")
+    sp.add_argument("--self-collision", action="store_true",
+                    help="check the robot against itself (non-adjacent links; implied by --cell)")
+    sp.add_argument("--clearance", type=bounded(0, math.inf, "(robot file length unit)"), default=0.0,
+                    metavar="D", help="with --cell or --self-collision: the clearance every state needs, robot file "
+                                      "length unit (default 0: not touching)")
+
+
+def world_from_args(robot: kin.Robot, args, obstacles=()):
+    """The :class:`planning.collision.CollisionWorld` of ``--cell``/``--self-collision``/``--clearance``
+    (and further ``obstacles``, e.g. keep-out boxes), or None when none of them is given."""
+    cell = getattr(args, "cell", None)
+    clearance = getattr(args, "clearance", 0.0) or 0.0
+    if cell is None and not obstacles and not getattr(args, "self_collision", False):
+        if clearance:
+            raise CliInputError("--clearance needs --cell or --self-collision (what it applies to)")
+        return None
+    from planning.collision import MAX_MARGIN, collision_world
+    margin = clearance * robot.chain.length_scale
+    if margin > MAX_MARGIN:
+        raise CliInputError(f"--clearance {clearance:g} is outside the allowed range [0, "
+                            f"{MAX_MARGIN / robot.chain.length_scale:g}] {robot.chain.length_unit}")
+    return collision_world(robot, cell, margin, obstacles)

@@ -72,9 +72,18 @@ def cmd_coverage(args, load_robot) -> int:
             raise CliInputError(f"{path}: no such points file")
         P, axes = read_points_csv(path, c.length_scale)
         targets, dex = Targets(P, "axis" if axes is not None else "free", axes), Dexterity()
+        task = None
     else:
         task = load_task(path, robot=robot)
         targets, dex = task.targets, task.dexterity
+    cell, clearance = (None, 0.0) if task is None else (task.cell, task.clearance)
+    if args.cell is not None:
+        from planning.cell import load_cell
+        cell = load_cell(args.cell)
+    if args.clearance:
+        if cell is None:
+            raise CliInputError("--clearance needs --cell (or a task file with a cell)")
+        clearance = args.clearance * c.length_scale
     if args.sigma_min is not None or args.manipulability is not None:
         if args.sigma_min is not None and args.manipulability is not None:
             raise CliInputError("give --sigma-min or --manipulability, not both")
@@ -85,7 +94,7 @@ def cmd_coverage(args, load_robot) -> int:
         else:
             dex = Dexterity("sigma_min", args.sigma_min)
     cov = coverage(robot, targets, dex, params=_params(robot, args.param), seeds=args.seeds,
-                   samples=args.samples, seed=args.seed)
+                   samples=args.samples, seed=args.seed, cell=cell, clearance=clearance)
     if args.plot:
         from studies.plots.design import plot_coverage
         plot_coverage(targets.positions / c.length_scale, cov, args.plot, c.length_unit, robot.name)
@@ -98,6 +107,9 @@ def cmd_coverage(args, load_robot) -> int:
         print(f"{robot.name}: {len(targets)} targets, reached {100 * cov.reach_fraction:.1f} %, covered "
               f"{100 * cov.fraction:.1f} % ({cov.measure} ≥ {cov.threshold:g}), {cov.flips} flip across "
               f"{args.seeds} seeds, GCI {cov.gci:.3f}")
+        if cov.blocked is not None:
+            print(f"  in the cell: {int(cov.blocked.sum())} target(s) reached only through a collision "
+                  f"(not counted)")
     return EXIT_OK if cov.covered.all() else EXIT_FAIL
 
 
@@ -117,6 +129,11 @@ def add_commands(add) -> None:
     sp.add_argument("--samples", type=int, default=20_000, help="sampled configurations for the seed index")
     sp.add_argument("--seed", type=seed, default=0, help="seed of the sampling and IK starts (default 0)")
     sp.add_argument("--plot", help="write the targets coloured by their best σ_min score (PNG)")
+    sp.add_argument("--cell", metavar="CELL.toml",
+                    help="work cell (docs/cells.md): a target counts only with a collision-free IK solution "
+                         "(default: the task file's cell, if any)")
+    sp.add_argument("--clearance", type=bounded(0, 1e6, "(robot length unit)"), default=0.0, metavar="D",
+                    help="with a cell: the clearance a solution needs, robot length unit (default 0)")
     add_optimise(add)
 
 

@@ -18,6 +18,7 @@ from studies.cli.common import (
     MAX_TIME_LIMIT,
     CliInputError,
     bounded,
+    cell_args,
     joint_values,
     numbers,
     output_file,
@@ -26,6 +27,7 @@ from studies.cli.common import (
     seed,
     window_width_args,
     windows_from_args,
+    world_from_args,
 )
 from studies.jointpath import path_csv_text
 from studies.jsonio import dump, finite_or_none
@@ -94,12 +96,13 @@ def cmd_plan(args, load_robot) -> int:
                                 "(the robot file's angle unit)")
         goal_pose = make_transform(rpy_to_matrix(rpy), xyz)
     boxes = _keep_out(c, args)
+    world = world_from_args(robot, args)
     ws = windows_from_args(robot, args.margin, args.sigma_min)
     note = sampled_windows_note(ws, "check the path with `rmt check-path --sigma-floor S`, which proves a σ_min floor")
     if note:
         print(note, file=sys.stderr)
     res = plan(robot, start, goal, ws, goal_pose=goal_pose, planner=args.planner, time_limit=args.time_limit,
-               seed=args.seed, objective=args.objective, boxes=boxes)
+               seed=args.seed, objective=args.objective, boxes=boxes, world=world)
     if goal is None:
         goal = res.goal if res.goal is not None else start
     path_file = robot.chain.from_si(res.path) if res.success else np.zeros((0, robot.n))
@@ -110,14 +113,19 @@ def cmd_plan(args, load_robot) -> int:
            "windows": [] if ws is None else [w.name for w in ws.windows],
            "straight_line_valid": res.straight_line_valid, "status": res.status,
            "proven": res.proven, "checks": None if res.check is None else
-           {"windows": res.check.windows_check, "sigma_min": res.check.sigma_check},
+           {"windows": res.check.windows_check, "sigma_min": res.check.sigma_check,
+            "collisions": res.check.collision_check},
+           "min_clearance": None if res.check is None else finite_or_none(res.check.min_clearance),
+           "clearance_bound": None if res.check is None else finite_or_none(res.check.clearance_bound),
+           "cell": None if world is None else world.name or args.cell,
            "separation": None if res.separation is None else
            {"joints": list(res.separation.joints), "kind": res.separation.kind, "reason": res.separation.reason},
            "goal": None if res.goal is None else c.from_si(res.goal).tolist(),
            "goal_branch": None if res.goal_branch is None else
            {k: v for k, v in res.goal_branch.items() if k != "q"},
            "keep_out_boxes": len(boxes),
-           "units": {"path": "robot file units", "length": "joint-space length, SI (rad/m)", "min_sigma": "SI"}}
+           "units": {"path": "robot file units", "length": "joint-space length, SI (rad/m)", "min_sigma": "SI",
+                     "min_clearance": "m"}}
     if args.json:
         print(dump(out))
     else:
@@ -132,8 +140,12 @@ def cmd_plan(args, load_robot) -> int:
                 b = res.goal_branch
                 print(f"goal pose: {b['candidates']} valid IK branch(es), {b['in_start_cell']} on the start's side of "
                       f"every window; the nearest such one chosen")
-            print("windows proven clear along every segment" if res.proven
+            print("windows proven clear along every segment" if res.proof is not None and res.proof.proven
                   else "windows checked by samples on some segments (the proof could not settle them)")
+            if world is not None:
+                print(f"collisions with the cell and the robot itself: {res.check.collision_check}; min clearance "
+                      f"{res.check.min_clearance * 1e3:.4g} mm (proven ≥ "
+                      f"{(res.check.clearance_bound or 0.0) * 1e3:.4g} mm)")
             if args.out:
                 print(f"wrote {args.out}")
         elif res.separation is not None:
@@ -182,17 +194,25 @@ def cmd_check_path(args, load_robot) -> int:
         note = sampled_windows_note(ws, "add --sigma-floor S to prove σ_min ≥ S along the path")
         if note:
             print(note, file=sys.stderr)
-    chk = check_path(robot, P, ws, sigma_min=args.sigma_floor, step_angle=step_angle, step_length=step_length)
+    world = world_from_args(robot, args)
+    chk = check_path(robot, P, ws, sigma_min=args.sigma_floor, step_angle=step_angle, step_length=step_length,
+                     world=world)
     fv = chk.first_violation
     out = {"valid": chk.valid,
            "first_violation": None if fv is None else {"index": fv.index, "kind": fv.kind, "detail": fv.detail},
            "min_sigma": finite_or_none(chk.min_sigma), "min_sigma_index": chk.min_sigma_index,
            "checked_states": chk.checked_states, "rows": int(len(P)),
-           "windows_check": chk.windows_check, "sigma_check": chk.sigma_check}
+           "windows_check": chk.windows_check, "sigma_check": chk.sigma_check,
+           "collision_check": chk.collision_check, "min_clearance": finite_or_none(chk.min_clearance),
+           "min_clearance_index": chk.min_clearance_index if world is not None else None,
+           "clearance_bound": finite_or_none(chk.clearance_bound), "units": {"min_clearance": "m"}}
     if args.json:
         print(dump(out))
     elif chk.valid:
         how = "" if chk.windows_check is None else f"; windows {chk.windows_check}"
+        if world is not None:
+            how += (f"; collisions {chk.collision_check}, min clearance {chk.min_clearance * 1e3:.4g} mm "
+                    f"(row {chk.min_clearance_index})")
         print(f"valid: {len(P)} rows, {chk.checked_states} states checked{how}; min σ_min {chk.min_sigma:.3g} "
               f"(row {chk.min_sigma_index})")
     else:
@@ -220,6 +240,7 @@ def add_commands(add) -> None:
     sp.add_argument("--keep-out-box", nargs=6, action="append", metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"),
                     help="a keep-out box for the tool point, base frame, file length unit (repeatable)")
     _window_args(sp, "seed of the planner (default 0; the windows do not depend on it)")
+    cell_args(sp)
     sp.add_argument("--planner", default="RRTConnect", help="OMPL planner (RRTConnect, RRT*, PRM*, BIT*, ...)")
     sp.add_argument("--time-limit", type=bounded(0, MAX_TIME_LIMIT, "s", open_low=True), default=2.0,
                     metavar="S", help=f"planning time limit, s (default 2, at most {MAX_TIME_LIMIT:g})")
@@ -230,6 +251,7 @@ def add_commands(add) -> None:
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
     sp.add_argument("path", metavar="PATH.csv", help="one configuration per row, robot file units")
     _window_args(sp, "accepted for symmetry with plan and ignored: the check uses no random numbers")
+    cell_args(sp)
     sp.add_argument("--sigma-floor", type=bounded(0, MAX_SIGMA, "(SI)"), metavar="S",
                     help="fail where σ_min (SI) drops below S")
     sp.add_argument("--step", type=bounded(0, math.inf, "(robot file units)", open_low=True), metavar="D",

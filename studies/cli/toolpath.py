@@ -11,7 +11,17 @@ from pathlib import Path
 import numpy as np
 
 import kin
-from studies.cli.common import MAX_SIGMA, bounded, numbers, output_file, seed, window_width_args, windows_from_args
+from studies.cli.common import (
+    MAX_SIGMA,
+    bounded,
+    cell_args,
+    numbers,
+    output_file,
+    seed,
+    window_width_args,
+    windows_from_args,
+    world_from_args,
+)
 from studies.taskrows import require_task_rows
 from studies.toolpaths import bundled_toolpaths, toolpath_file
 from studies.units import joint_units
@@ -85,6 +95,9 @@ def report_text(report, robot: kin.Robot) -> str:
     if report.window_names:
         inside = {report.window_names[k]: int((report.window == k).sum()) for k in range(len(report.window_names))}
         rows.append(("in windows", ", ".join(f"{k}: {v}" for k, v in inside.items())))
+    if d["min_clearance"] is not None:
+        rows.append(("min clearance", f"{d['min_clearance'] * 1e3:.4g} mm at waypoint {d['min_clearance_index']}; "
+                                      f"joint motions between waypoints {d['collision_check']}"))
     counts = ", ".join(f"{k} {v}" for k, v in report.counts.items() if v) or "none"
     rows.append(("problems", counts))
     st = report.stats
@@ -111,10 +124,11 @@ def cmd_validate_toolpath(args, load_robot) -> int:
     tol_o = _positive(args.tol_orientation, "--tol-orientation")
     max_step = _per_joint(robot, args.max_step, "--max-step")
     max_speed = _per_joint(robot, args.max_speed, "--max-speed")
+    world = world_from_args(robot, args)
     report = validate_toolpath(robot, tp, windows=ws, start_q=start, branch_seed=args.seed, sigma_min=floor,
                                tol_position=1e-6 if tol_p is None else tol_p * c.length_scale,
                                tol_orientation=1e-6 if tol_o is None else tol_o * c.angle_scale,
-                               max_joint_step=max_step, max_speed=max_speed)
+                               max_joint_step=max_step, max_speed=max_speed, world=world)
     if args.plot:
         from studies.plots.toolpath import plot_toolpath_report
         plot_toolpath_report(report, robot, args.plot)
@@ -153,5 +167,6 @@ def add_commands(add) -> None:
                          "one per joint (default 30° / 0.1 m)")
     sp.add_argument("--max-speed", nargs="+", metavar="V",
                     help="joint speed limits, file units/s; one value or one per joint (default: the robot file's)")
+    cell_args(sp)
     sp.add_argument("--waypoints", action="store_true", help="with --json: include the per-waypoint arrays")
     sp.add_argument("--plot", metavar="FILE.png", help="write joint trajectories (windows shaded) and σ_min")

@@ -1,0 +1,47 @@
+"""``rmt clearance``: how clear one configuration is of its work cell and of itself, body by body."""
+from __future__ import annotations
+
+from studies.cli.common import cell_args, world_from_args
+from studies.jsonio import dump, finite_or_none
+
+
+def cmd_clearance(args, load_robot) -> int:
+    from studies.cli.kinematics import configuration
+    robot = load_robot(args.robot)
+    q = configuration(robot, args.q, "q")
+    args.self_collision = True           # the robot against itself, always
+    world = world_from_args(robot, args)
+    near = world.nearest(q[None])
+    obs, slf = world.per_body(q[None])
+    c = float(near.clearance[0])
+    body, other = int(near.body[0]), int(near.other[0])
+    clear = c > world.margin
+    names = world.body_names
+    holds = set(world.geometry.bodies())
+    per_body = [{"body": names[k], "obstacles": finite_or_none(obs[0, k]), "self": finite_or_none(slf[0, k])}
+                for k in range(len(names)) if k in holds]
+    if args.json:
+        print(dump({"clear": clear, "clearance": c, "body": names[body], "other": world.other_name(other),
+                    "point_robot": near.point_robot[0], "point_other": near.point_other[0],
+                    "required": world.margin, "cell": world.name or args.cell, "per_body": per_body,
+                    "capped_at": world.cap, "units": "m (values at the cap mean 'at least this far')"}))
+    else:
+        state = "clear; nearest" if clear else "IN COLLISION"
+        print(f"{state}: {world.describe(body, other, c)}")
+        print(f"  {'body':<20} {'obstacles [mm]':>15} {'self [mm]':>12}")
+        for row in per_body:
+            fmt = [f"{v * 1e3:.4g}" if v is not None and v < world.cap else f"≥ {world.cap * 1e3:.0f}"
+                   for v in (row["obstacles"], row["self"])]
+            print(f"  {row['body']:<20} {fmt[0]:>15} {fmt[1]:>12}")
+    return 0 if clear else 1
+
+
+def add_commands(add) -> None:
+    sp = add("clearance", cmd_clearance, "how clear a configuration is of its work cell and of itself (self-collision "
+                                         "always); exit 0 clear, 1 in collision")
+    sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
+    sp.add_argument("q", nargs="+", metavar="Q", help="the configuration, robot file units")
+    cell_args(sp)
+
+
+__all__ = ["add_commands", "cmd_clearance"]
