@@ -12,6 +12,11 @@ Orientation requirements: "pose" is solved as a pose; "axis" (tool z along a giv
 rotation about it) by pose IK at ``spins`` equally spaced rotations about the axis; "cone" (tool
 axis within a half-angle of the axis) additionally at six axes tilted by the half-angle.
 
+In a work cell (``cell``, a :class:`planning.cell.Cell`) a target counts only when a seed's solution is
+also clear of the cell and of the robot itself (by the required ``clearance``, m): ``blocked`` marks
+the targets reached only through a collision — the coverage that collisions remove.  Each design gets
+its own robot geometry (a default geometry follows the design's link lengths).
+
 Many designs are verified in one batch (:func:`coverage_of_designs`): every (design, target, seed)
 is one row of the same IK call, which is what makes grids and differential evolution affordable.
 Everything SI; σ_min of the translational rows in m/rad.
@@ -50,6 +55,7 @@ class Coverage:
     verdicts: np.ndarray
     measure: str
     threshold: float
+    blocked: np.ndarray | None = None      # (N,) reached, but only in collision (None: no work cell)
 
     @property
     def flips(self) -> int:
@@ -73,7 +79,8 @@ class Coverage:
         return {"targets": int(len(self.covered)), "reach_percent": 100 * self.reach_fraction,
                 "coverage_percent": 100 * self.fraction, "flips": self.flips, "seeds": int(self.verdicts.shape[1]),
                 "measure": self.measure, "threshold": self.threshold, "gci": self.gci,
-                "best": self.best, "covered": self.covered}
+                "best": self.best, "covered": self.covered,
+                "blocked_by_collision": None if self.blocked is None else int(self.blocked.sum())}
 
 
 def dexterity_jacobian(robot: kin.Robot, J: np.ndarray, dex: Dexterity) -> np.ndarray:
@@ -141,11 +148,12 @@ def _variants(targets: Targets, spins: int) -> np.ndarray | None:
 
 def coverage_of_designs(robot: kin.Robot, targets: Targets, dexterity: Dexterity | None, P: np.ndarray,
                         seeds: int = 4, samples: int = 5000, seed: int = 0, spins: int = 4,
-                        max_iter: int = 150) -> list[Coverage]:
+                        max_iter: int = 150, cell=None, clearance: float = 0.0) -> list[Coverage]:
     """Coverage of every design row of P (D, n_p) (SI parameter vectors), verified in one IK batch.
 
     ``samples`` configurations are sampled once (seeded) and mapped through each design's FK to
-    build that design's nearest-neighbour index; ``seeds`` IK seeds per target.
+    build that design's nearest-neighbour index; ``seeds`` IK seeds per target; ``cell``: a work cell
+    whose collisions (and self-collisions) rule a solution out, with the required ``clearance`` (m).
     """
     dex = dexterity or Dexterity()
     chain = robot.chain
@@ -174,7 +182,9 @@ def coverage_of_designs(robot: kin.Robot, targets: Targets, dexterity: Dexterity
         goal[:, :3, 3] = targets.positions[rows_t]
     Prow = P[rows_d]
     mode = "position" if V is None else "pose"
+    worlds = _worlds(robot, P, cell, clearance) if cell is not None else None
     ok = np.zeros((D, N, k), bool)
+    reach_any = np.zeros((D, N), bool)
     meas = np.full((D, N, k), np.nan)
     icond = np.full((D, N, k), np.nan)
     qsol = np.zeros((D, N, k, n))
@@ -183,6 +193,12 @@ def coverage_of_designs(robot: kin.Robot, targets: Targets, dexterity: Dexterity
         res = robot.ik(goal, seed=seed + 7919 * (j + 1), q0=q0, mode=mode, restarts=1, rounds=1,
                        max_iter=max_iter, tol_position=targets.tolerance, params=Prow)
         good = np.asarray(res.success, bool)
+        if worlds is not None:
+            reach_any |= good.reshape(D, N, nv).any(axis=2)
+            for d, w in enumerate(worlds):
+                rows = np.flatnonzero(good & (rows_d == d))
+                if len(rows):
+                    good[rows] = w.clearance(res.q[rows]) > w.margin
         m, ic = np.full(len(good), np.nan), np.full(len(good), np.nan)
         if good.any():
             m[good], ic[good] = dexterity_measure(robot, res.q[good], dex, Prow[good])
@@ -202,12 +218,27 @@ def coverage_of_designs(robot: kin.Robot, targets: Targets, dexterity: Dexterity
         ar = np.arange(N)
         out.append(Coverage(reached=ok[d].any(axis=1), covered=verdict[d].any(axis=1), best=meas[d, ar, b],
                             inverse_condition=icond[d, ar, b], q=qsol[d, ar, b], verdicts=verdict[d],
-                            measure=dex.kind, threshold=float(dex.value)))
+                            measure=dex.kind, threshold=float(dex.value),
+                            blocked=None if worlds is None else reach_any[d] & ~ok[d].any(axis=1)))
     return out
 
 
+def _worlds(robot: kin.Robot, P: np.ndarray, cell, clearance: float) -> list:
+    """One collision world per design row (its own link lengths, hence its own default geometry)."""
+    from planning.collision import collision_world
+    if not len(robot.chain.parameters):
+        w = collision_world(robot, cell, clearance)
+        return [w] * len(P)
+    names = list(robot.chain.parameters)
+    return [collision_world(kin.Robot(robot.chain.with_parameters(dict(zip(names, p))).frozen()), cell, clearance)
+            for p in P]
+
+
 def coverage(robot: kin.Robot, targets: Targets, dexterity: Dexterity | None = None, params=None,
-             seeds: int = 4, samples: int = 20_000, seed: int = 0, spins: int = 4) -> Coverage:
-    """Coverage of ``targets`` by ``robot`` at design ``params`` (mapping or vector, SI; None = nominal)."""
+             seeds: int = 4, samples: int = 20_000, seed: int = 0, spins: int = 4, cell=None,
+             clearance: float = 0.0) -> Coverage:
+    """Coverage of ``targets`` by ``robot`` at design ``params`` (mapping or vector, SI; None = nominal),
+    in the work ``cell`` (None: no collisions) with the required ``clearance`` (m)."""
     p = robot.chain.parameter_vector(params)
-    return coverage_of_designs(robot, targets, dexterity, p[None], seeds, samples, seed, spins)[0]
+    return coverage_of_designs(robot, targets, dexterity, p[None], seeds, samples, seed, spins, cell=cell,
+                               clearance=clearance)[0]

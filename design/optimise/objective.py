@@ -44,7 +44,7 @@ def evaluate_designs(task: Task, P: np.ndarray, settings: VerifySettings = Verif
     """Verify designs P (D, n_p) (SI) against the task and score them."""
     P = np.atleast_2d(np.asarray(P, float))
     covs = coverage_of_designs(task.robot, task.targets, task.dexterity, P, settings.seeds, settings.samples,
-                               settings.seed)
+                               settings.seed, cell=task.cell, clearance=task.clearance)
     frac = np.array([c.fraction for c in covs])
     chain = task.robot.chain
     length = np.array([structural_length(chain, p) for p in P])

@@ -148,7 +148,8 @@ def job_fingerprint(job: SweepJob) -> str:
     for part in (repr(t.robot), t.targets.orientation, repr(t.targets.cone_half_angle), repr(t.targets.tolerance),
                  repr(t.dexterity), t.objective, repr(t.min_coverage), repr(t.total_length),
                  repr((job.seeds, job.samples, job.seed, tuple(job.metrics))),
-                 getattr(job.evaluate, "__qualname__", "default")):
+                 getattr(job.evaluate, "__qualname__", "default"),
+                 "" if t.cell is None else t.cell.fingerprint(), repr(t.clearance)):
         h.update(part.encode())
         h.update(b"\0")
     for arr in (t.targets.positions, t.targets.axes, t.targets.rotations):

@@ -21,7 +21,8 @@ from kin.transforms import rpy_to_matrix
 __all__ = ["load_task", "loads_task", "SHAPES"]
 
 SHAPES = ("points", "box", "ring", "sphere", "toolpath")
-_TOP = ("name", "title", "robot", "length_unit", "angle_unit", "seed", "objective", "target", "dexterity",
+_TOP = ("name", "title", "robot", "length_unit", "angle_unit", "seed", "objective", "target", "dexterity", "cell",
+        "clearance",
         "constraints", "architecture")
 _TARGET = {"points": ("file",), "box": ("min", "max", "count"),
            "ring": ("center", "r_inner", "r_outer", "count", "z", "theta"),
@@ -105,9 +106,19 @@ def loads_task(text: str, path: str | None = None, base: Path | None = None, rob
     total = cons.get("total_length")
     total = None if total is None else r.number(total, "constraints.total_length", 0.0, strict_lo=True) * ls
     arch = _architectures(r, raw.get("architecture"), robot.n)
+    cell = None
+    if "cell" in raw:
+        from planning.cell import load_cell
+        try:
+            cell = load_cell(r.file(raw["cell"], "cell", base))
+        except kin.RmtError as e:
+            raise r.fail("cell", str(e)) from None
+    clearance = r.number(raw.get("clearance", 0.0), "clearance", 0.0, 1.0 / ls) * ls
+    if clearance and cell is None:
+        raise r.fail("clearance", "needs a cell (the work cell it applies to)")
     return Task(name=name, robot=robot, targets=targets, dexterity=dex, objective=objective, min_coverage=min_cov,
                 total_length=total, architectures=arch, seed=seed, length_unit=lu, angle_unit=au,
-                source=path or "")
+                source=path or "", cell=cell, clearance=clearance)
 
 
 def _targets(r: _Reader, raw: Any, ls: float, as_: float, base: Path, robot) -> Targets:

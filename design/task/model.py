@@ -106,7 +106,8 @@ class Task:
     ``robot`` is a :class:`kin.Robot`; ``min_coverage`` a fraction in [0, 1]; ``total_length`` an
     optional equality constraint Σ(|a_i|+|d_i|) = L (m); ``architectures`` joint-type strings to
     evaluate (empty: the robot's own).  ``length_unit`` / ``angle_unit`` are the units the task file
-    was written in (results are reported in them).
+    was written in (results are reported in them).  ``cell``: the work cell (a
+    :class:`planning.cell.Cell`) whose collisions rule solutions out, with ``clearance`` (m) required.
     """
 
     name: str
@@ -121,6 +122,8 @@ class Task:
     length_unit: str = "m"
     angle_unit: str = "rad"
     source: str = ""
+    cell: object | None = None
+    clearance: float = 0.0
 
     def __post_init__(self):
         if self.objective not in OBJECTIVES:
