@@ -139,6 +139,19 @@ def evaluate_chunk(job: SweepJob, designs: list[Design]) -> list[Outcome]:
     return out
 
 
+def _cell_fingerprint(cell) -> str:
+    """Everything of a work cell that decides collisions, as text (``""`` without a cell)."""
+    if cell is None:
+        return ""
+    parts = [np.asarray(cell.base, float).tobytes().hex(), repr(cell.tool), repr(cell.body_pairs),
+             repr(cell.obstacle_pairs)]
+    for ob in cell.obstacles:
+        parts.append(repr((ob.name, sorted(ob.ignore), [(s.kind, s.size, s.pose.tobytes().hex()) for s in ob.shapes])))
+        if ob.spheres is not None:
+            parts.append(ob.spheres.tobytes().hex())
+    return "|".join(parts)
+
+
 def job_fingerprint(job: SweepJob) -> str:
     """SHA-256 of everything that decides a design's metrics: the chain, the targets, the dexterity,
     objective and constraints, the IK budget and the metrics (a store refuses another job's rows)."""
@@ -149,7 +162,7 @@ def job_fingerprint(job: SweepJob) -> str:
                  repr(t.dexterity), t.objective, repr(t.min_coverage), repr(t.total_length),
                  repr((job.seeds, job.samples, job.seed, tuple(job.metrics))),
                  getattr(job.evaluate, "__qualname__", "default"),
-                 "" if t.cell is None else t.cell.fingerprint(), repr(t.clearance)):
+                 _cell_fingerprint(t.cell), repr(t.clearance)):
         h.update(part.encode())
         h.update(b"\0")
     for arr in (t.targets.positions, t.targets.axes, t.targets.rotations):
