@@ -41,27 +41,45 @@ def test_goal_pose_takes_the_branch_on_the_start_side(capsys):
     assert d["goal_branch"]["in_start_cell"] >= 1
 
 
+def _blocking_box(robot, s, g):
+    """A small box at the straight line's middle that the line's robot (not only its tool point)
+    passes through while start and goal stay clear of it: (lower, upper) in m."""
+    from planning.cell import cell_from_keep_out
+    from planning.collision import CollisionWorld
+    from planning.ompl import KeepOutBox
+    mid = robot.fk(0.5 * (s + g))
+    t = np.linspace(0, 1, 200)
+    for off in (0.0, 0.05, 0.1, 0.15, 0.2):
+        for h in (0.01, 0.02, 0.04):
+            c = mid[:3, 3] + off * mid[:3, 2]
+            box = cell_from_keep_out([KeepOutBox(tuple(c - h), tuple(c + h))]).obstacles
+            world = CollisionWorld(robot, obstacles=box)
+            line = world.clearance(s + t[:, None] * (g - s))
+            if world.clearance(s) > 0 and world.clearance(g) > 0 and line.min() < 0:
+                return c - h, c + h, world
+    raise AssertionError("no box blocks the straight line but leaves start and goal clear")
+
+
 def test_keep_out_box_and_file(tmp_path, capsys):
+    """Keep-out boxes are cell obstacles: the whole robot (its capsules) stays clear of them."""
     robot = kin.load_robot("fanuc_m16ib20")
+    s = np.array([float(x) for x in START])
     goal = np.array([0.3, -0.2, 0.3, 0.1, -0.8, 0.1])
-    tool = robot.fk(np.array([0.15, -0.25, 0.35, 0.15, -0.7, 0.05]))[:3, 3]     # near the straight line's middle
-    lo, hi = tool - 0.05, tool + 0.05
+    lo, hi, world = _blocking_box(robot, s, goal)
+    scale = robot.chain.length_scale
     cell = tmp_path / "cell.toml"
     cell.write_text(f"length_unit = 'mm'\n[[box]]\nlower = {(lo * 1000).tolist()}\nupper = {(hi * 1000).tolist()}\n")
-    t = np.linspace(0, 1, 200)
-    s = np.array([float(x) for x in START])
-    line = robot.fk(s + t[:, None] * (goal - s))[:, :3, 3]
-    assert np.all((line >= lo) & (line <= hi), axis=1).any()          # the straight line goes through the box
-    corners = [repr(float(x)) for x in (*lo, *hi)]
+    t = np.linspace(0, 1, 400)
+    corners = [repr(float(x) / scale) for x in (*lo, *hi)]
     for extra in (["--keep-out", str(cell)], ["--keep-out-box", *corners]):
         rc, out, err = _run(["plan", "fanuc_m16ib20", "--start", *START, "--goal", *(repr(float(x)) for x in goal),
                              "--margin", "0.05", "--json", *extra], capsys)
         d = json.loads(out)
-        assert rc == 0 and d["success"] and d["keep_out_boxes"] == 1
-        P = np.array(d["path"])
+        assert rc == 0 and d["success"] and d["keep_out_boxes"] == 1 and d["checks"]["collisions"] == "proven"
+        P = robot.chain.to_si(np.array(d["path"]))
+        assert len(P) > 2                                      # the straight line is blocked
         for a, b in zip(P[:-1], P[1:]):
-            pts = robot.fk(a + t[:, None] * (b - a))[:, :3, 3]
-            assert not np.all((pts >= lo) & (pts <= hi), axis=1).any()
+            assert world.clearance(a + t[:, None] * (b - a)).min() > 0
 
 
 @pytest.mark.parametrize("extra, words", [
