@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from pathlib import Path
 from typing import Sequence
 
 import numpy as np
@@ -153,11 +154,31 @@ def sampled_windows_note(ws, floor_hint: str) -> str | None:
             f"a singularity; {floor_hint}")
 
 
+#: the bundled work cells (``--cell NAME``)
+CELL_DIR = Path(__file__).resolve().parent.parent / "cells"
+
+
+def bundled_cells() -> list[str]:
+    """Names of the bundled work cells (studies/cells/*.toml)."""
+    return sorted(p.stem for p in CELL_DIR.glob("*.toml"))
+
+
+def cell_file(arg: str) -> Path:
+    """A ``--cell`` argument → an existing file: a path, or the name of a bundled cell."""
+    p = Path(arg)
+    if p.is_file():
+        return p
+    if not p.suffix and "/" not in arg and (CELL_DIR / f"{arg}.toml").is_file():
+        return CELL_DIR / f"{arg}.toml"
+    raise CliInputError(f"{arg}: no such cell file or bundled cell; bundled: {', '.join(bundled_cells())}")
+
+
 def cell_args(sp) -> None:
     """``--cell CELL.toml`` and ``--clearance D``: the work cell a command judges collisions in."""
     sp.add_argument("--cell", metavar="CELL.toml",
-                    help="work cell (TOML, docs/cells.md): robot placement, obstacles, tool geometry, allowed "
-                         "pairs; collisions with it and self-collisions are checked (by proof for joint motions)")
+                    help="work cell (TOML, docs/cells.md) or a bundled cell's name (" + ", ".join(bundled_cells())
+                         + "): robot placement, obstacles, tool geometry, allowed pairs; collisions with it and "
+                           "self-collisions are checked (by proof for joint motions)")
     sp.add_argument("--self-collision", action="store_true",
                     help="check the robot against itself (non-adjacent links; implied by --cell)")
     sp.add_argument("--clearance", type=bounded(0, math.inf, "(robot file length unit)"), default=0.0,
@@ -179,4 +200,4 @@ def world_from_args(robot: kin.Robot, args, obstacles=()):
     if margin > MAX_MARGIN:
         raise CliInputError(f"--clearance {clearance:g} is outside the allowed range [0, "
                             f"{MAX_MARGIN / robot.chain.length_scale:g}] {robot.chain.length_unit}")
-    return collision_world(robot, cell, margin, obstacles)
+    return collision_world(robot, None if cell is None else cell_file(cell), margin, obstacles)

@@ -79,7 +79,8 @@ def cmd_coverage(args, load_robot) -> int:
     cell, clearance = (None, 0.0) if task is None else (task.cell, task.clearance)
     if args.cell is not None:
         from planning.cell import load_cell
-        cell = load_cell(args.cell)
+        from studies.cli.common import cell_file
+        cell = load_cell(cell_file(args.cell))
     if args.clearance:
         if cell is None:
             raise CliInputError("--clearance needs --cell (or a task file with a cell)")

@@ -178,7 +178,8 @@ def _box_obstacles(robot, args, boxes) -> tuple:
     obstacles = cell_from_keep_out(boxes).obstacles
     if args.cell is None:
         return obstacles
-    base = load_cell(args.cell).base        # the cell places the robot: boxes move with its base frame
+    from studies.cli.common import cell_file
+    base = load_cell(cell_file(args.cell)).base     # the cell places the robot: boxes move with its base frame
     from dataclasses import replace
     return tuple(replace(ob, shapes=tuple(replace(sh, pose=base @ sh.pose) for sh in ob.shapes)) for ob in obstacles)
 
