@@ -3,9 +3,9 @@
 The roles are OMPL's: a :class:`ompl.base.RealVectorStateSpace` bounded by the joint limits, a
 state validity checker (limits, outside every window, an optional σ_min floor, optional keep-out
 boxes, clear of a work cell and of the robot itself — :class:`planning.collision.CollisionWorld`,
-one call of the compiled clearance kernel), a motion validator (which proves every motion clear of
-the cell, :mod:`planning.certify.collision`, besides) that checks a whole motion as one batch at a step finer than the
-narrowest window (so no window can be jumped), a problem definition with an optional objective
+one call of the compiled clearance kernel), a motion validator that checks a whole motion as one
+batch at a step finer than the narrowest window (so no window can be jumped) and proves it clear of
+the cell (:mod:`planning.certify.collision`), a problem definition with an optional objective
 (path length, or path length plus a singularity cost ∫ 1/σ_min), and a planner chosen by name.
 
 Before planning, :class:`planning.certify.FreeCells` decides whether start and goal lie in different
