@@ -70,8 +70,10 @@ typedef struct {          /* what one configuration's pairs report to */
 typedef struct {          /* the scratch space of one thread */
   double *F;              /* nbody × 12 × LANES frames of a block of configurations (lane fastest) */
   double *cs;             /* n × 2 × LANES: cos, sin of each joint's angle */
-  double *W;              /* nbody × 4 bounding balls in the world */
-  wcap *C;                /* ncap */
+  double *W;              /* LANES × nbody × 4 bounding balls in the world */
+  wcap *C;                /* LANES × ncap */
+  const wcap *Cl;         /* the lane whose pairs are evaluated: its capsules ... */
+  const double *Wl;       /* ... and its bodies' balls */
   double *lb;             /* candidates: lower bounds */
   long long *code;        /* ... and what they are: b · nprim + p (obstacle), −1 − k (body pair k) */
   long long hint;         /* the candidate that gave the previous configuration's minimum (NO_HINT: none) */
@@ -197,35 +199,46 @@ static void frames(const rmt_clear_model *m, const double *q, int nl, scratch *s
   }
 }
 
-/* p = F · v for lane l (a point given in frame F) */
-RMT_INLINE void apply(const double *F, int l, const double *v, double *p)
+/* the capsules and the bodies' balls in the world for every lane of the block (computed across the
+   lanes, then laid out per lane: capsule c of lane l at C[l ncap + c], body b's ball at W[4 (l nbody + b)]) */
+static void place(const rmt_clear_model *m, scratch *s)
 {
-  for (int i = 0; i < 3; ++i)
-    p[i] = F[(9 + i) * LANES + l] + F[i * LANES + l] * v[0] + F[(3 + i) * LANES + l] * v[1]
-         + F[(6 + i) * LANES + l] * v[2];
-}
-
-/* the capsules and the bodies' balls in the world for lane l of the block */
-static void place(const rmt_clear_model *m, int l, scratch *s)
-{
+  long long ncap = m->ncap, nbody = m->nbody;
+  double t[9][LANES];
   for (long long b = 0; b <= m->last; ++b) {
     long long c0 = m->body_cap[b], c1 = m->body_cap[b + 1];
     if (c0 == c1) continue;
-    const double *Fb = s->F + 12 * LANES * b;
-    apply(Fb, l, m->body_sphere + 4 * b, s->W + 4 * b);
-    s->W[4 * b + 3] = m->body_sphere[4 * b + 3];
+    const double *F = s->F + 12 * LANES * b;
+    const double *ball = m->body_sphere + 4 * b;
+    for (int i = 0; i < 3; ++i) {
+      const double *X = F + i * LANES, *Y = F + (3 + i) * LANES, *Z = F + (6 + i) * LANES, *O = F + (9 + i) * LANES;
+      RMT_SIMD
+      for (int l = 0; l < LANES; ++l) t[i][l] = O[l] + X[l] * ball[0] + Y[l] * ball[1] + Z[l] * ball[2];
+    }
+    for (int l = 0; l < LANES; ++l) {
+      double *W = s->W + 4 * (l * nbody + b);
+      W[0] = t[0][l]; W[1] = t[1][l]; W[2] = t[2][l]; W[3] = ball[3];
+    }
     for (long long c = c0; c < c1; ++c) {      /* lengths do not change: dd, idd, rb come from Python */
       const double *K = m->cap + RMT_CAP_STRIDE * c;
-      wcap *w = s->C + c;
-      double e[3];
-      apply(Fb, l, K, w->a);
-      apply(Fb, l, K + 3, e);
-      for (int i = 0; i < 3; ++i) { w->d[i] = e[i] - w->a[i]; w->m[i] = 0.5 * (e[i] + w->a[i]); }
-      w->r = K[6];
-      w->dd = K[7];
-      w->idd = K[8];
-      w->rb = K[9];
-      w->body = b;
+      for (int i = 0; i < 3; ++i) {
+        const double *X = F + i * LANES, *Y = F + (3 + i) * LANES, *Z = F + (6 + i) * LANES, *O = F + (9 + i) * LANES;
+        RMT_SIMD
+        for (int l = 0; l < LANES; ++l) {
+          double a = O[l] + X[l] * K[0] + Y[l] * K[1] + Z[l] * K[2];
+          double e = O[l] + X[l] * K[3] + Y[l] * K[4] + Z[l] * K[5];
+          t[i][l] = a; t[3 + i][l] = e - a; t[6 + i][l] = 0.5 * (e + a);
+        }
+      }
+      for (int l = 0; l < LANES; ++l) {
+        wcap *w = s->C + l * ncap + c;
+        for (int i = 0; i < 3; ++i) { w->a[i] = t[i][l]; w->d[i] = t[3 + i][l]; w->m[i] = t[6 + i][l]; }
+        w->r = K[6];
+        w->dd = K[7];
+        w->idd = K[8];
+        w->rb = K[9];
+        w->body = b;
+      }
     }
   }
 }
@@ -494,7 +507,7 @@ static void body_prim(const rmt_clear_model *m, const scratch *s, long long b, l
   long long kind = m->prim_int[4 * p];
   int want = k->mode == RMT_MODE_NEAREST;
   for (long long c = m->body_cap[b]; c < m->body_cap[b + 1]; ++c) {
-    const wcap *w = s->C + c;
+    const wcap *w = s->Cl + c;
     double thr = k->mode == RMT_MODE_PER_BODY ? k->bo[b] : k->best;
     if (far_apart(dist2(w->m, P), w->rb + P[3], thr)) continue;
     double v;
@@ -524,9 +537,9 @@ static void body_pair(const rmt_clear_model *m, const scratch *s, long long pr, 
   long long bi = m->pair[2 * pr], bj = m->pair[2 * pr + 1];
   int per_body = k->mode == RMT_MODE_PER_BODY;
   for (long long ci = m->body_cap[bi]; ci < m->body_cap[bi + 1]; ++ci) {
-    const wcap *u = s->C + ci;
+    const wcap *u = s->Cl + ci;
     for (long long cj = m->body_cap[bj]; cj < m->body_cap[bj + 1]; ++cj) {
-      const wcap *w = s->C + cj;
+      const wcap *w = s->Cl + cj;
       double thr = per_body ? (k->bs[bi] > k->bs[bj] ? k->bs[bi] : k->bs[bj]) : k->best;
       double rr = u->r + w->r;
       if (far_apart(dist2(u->m, w->m), u->rb + w->rb, thr)) continue;
@@ -568,7 +581,7 @@ static void pairs(const rmt_clear_model *m, scratch *s, sink *k)
     /* per body: its nearest primitive (by bound) first, then the others whose bounds come below */
     for (long long b = 0; b <= m->last; ++b) {
       if (m->body_cap[b] == m->body_cap[b + 1] || nprim == 0) continue;
-      body_bounds(m, s->W + 4 * b, b, plb);
+      body_bounds(m, s->Wl + 4 * b, b, plb);
       long long first = 0;
       for (long long p = 1; p < nprim; ++p) if (plb[p] < plb[first]) first = p;
       if (plb[first] < k->bo[b]) body_prim(m, s, b, first, k);
@@ -578,7 +591,7 @@ static void pairs(const rmt_clear_model *m, scratch *s, sink *k)
     for (long long pr = 0; pr < m->npair; ++pr) {
       long long bi = m->pair[2 * pr], bj = m->pair[2 * pr + 1];
       double thr = k->bs[bi] > k->bs[bj] ? k->bs[bi] : k->bs[bj];
-      if (far_apart(dist2(s->W + 4 * bi, s->W + 4 * bj), s->W[4 * bi + 3] + s->W[4 * bj + 3], thr)) continue;
+      if (far_apart(dist2(s->Wl + 4 * bi, s->Wl + 4 * bj), s->Wl[4 * bi + 3] + s->Wl[4 * bj + 3], thr)) continue;
       body_pair(m, s, pr, k);
     }
     return;
@@ -592,7 +605,7 @@ static void pairs(const rmt_clear_model *m, scratch *s, sink *k)
   long long first = -1;
   for (long long b = 0; b <= m->last; ++b) {
     if (m->body_cap[b] == m->body_cap[b + 1] || nprim == 0) continue;
-    body_bounds(m, s->W + 4 * b, b, plb);
+    body_bounds(m, s->Wl + 4 * b, b, plb);
     for (long long p = 0; p < nprim; ++p) {
       double lb = plb[p];
       if (!(lb < k->best) || b * nprim + p == hint) continue;
@@ -601,7 +614,7 @@ static void pairs(const rmt_clear_model *m, scratch *s, sink *k)
     }
   }
   for (long long pr = 0; pr < m->npair; ++pr) {
-    const double *Wi = s->W + 4 * m->pair[2 * pr], *Wj = s->W + 4 * m->pair[2 * pr + 1];
+    const double *Wi = s->Wl + 4 * m->pair[2 * pr], *Wj = s->Wl + 4 * m->pair[2 * pr + 1];
     double d2 = dist2(Wi, Wj), rr = Wi[3] + Wj[3];
     if (-1 - pr == hint || far_apart(d2, rr, k->best)) continue;
     double lb = sqrt(d2) - rr;
@@ -619,17 +632,17 @@ static void scratch_layout(const rmt_clear_model *m, double *buf, scratch *s)
   s->F = buf;
   s->cs = s->F + 12 * LANES * m->nbody;
   s->W = s->cs + 2 * LANES * (m->n > 0 ? m->n : 1);
-  s->plb = s->W + 4 * m->nbody;
+  s->plb = s->W + 4 * LANES * m->nbody;
   s->C = (wcap *)(s->plb + m->nprim4);
-  s->lb = (double *)(s->C + m->ncap);
+  s->lb = (double *)(s->C + LANES * m->ncap);
   s->code = (long long *)(s->lb + m->nbody * m->nprim + m->npair);
   s->hint = NO_HINT;
 }
 
 static size_t scratch_size(const rmt_clear_model *m)
 {
-  return sizeof(double) * (size_t)((12 * LANES + 4) * m->nbody + 2 * LANES * (m->n > 0 ? m->n : 1) + m->nprim4)
-       + sizeof(wcap) * (size_t)m->ncap
+  return sizeof(double) * (size_t)(16 * LANES * m->nbody + 2 * LANES * (m->n > 0 ? m->n : 1) + m->nprim4)
+       + sizeof(wcap) * (size_t)(LANES * m->ncap)
        + (sizeof(double) + sizeof(long long)) * (size_t)(m->nbody * m->nprim + m->npair);
 }
 /* ---- entry points ------------------------------------------------------------------------------- */
@@ -655,9 +668,11 @@ static void run_range(void *ctx, long long begin, long long end)
   for (long long i0 = begin; i0 < end; i0 += LANES) {
     int nl = end - i0 < LANES ? (int)(end - i0) : LANES;
     frames(m, J->Q + m->n * i0, nl, &s);
+    place(m, &s);
     for (int l = 0; l < nl; ++l) {
       long long i = i0 + l;
-      place(m, l, &s);
+      s.Cl = s.C + l * m->ncap;
+      s.Wl = s.W + 4 * l * B;
       sink k = { J->mode, J->cap, -1, -1, { NAN, NAN, NAN }, { NAN, NAN, NAN }, NULL, NULL, NO_HINT };
       if (J->mode == RMT_MODE_PER_BODY) {
         k.bo = J->bo + B * i;
@@ -702,7 +717,9 @@ double rmt_clear_one(const rmt_clear_model *m, const double *q, double cap)
   scratch s;
   scratch_layout(m, buf, &s);
   frames(m, q, 1, &s);
-  place(m, 0, &s);
+  place(m, &s);
+  s.Cl = s.C;
+  s.Wl = s.W;
   sink k = { RMT_MODE_MIN, cap, -1, -1, { 0, 0, 0 }, { 0, 0, 0 }, NULL, NULL, NO_HINT };
   pairs(m, &s, &k);
   if (buf != local) free(buf);
