@@ -36,6 +36,7 @@
 
    Threads: configurations in chunks over rmt_parallel_for (rmt_parallel.h); each configuration's
    result does not depend on the thread count. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include "rmt_common.h"
@@ -44,7 +45,7 @@
 
 #define TOL 1e-7          /* m: a convex minimisation stops when its lower and upper bounds are this close */
 #define MAX_STEPS 200     /* ... or after this many steps (rounding only), reporting the lower bound */
-#define NEAR_PARALLEL 1e-8  /* sin² of the angle below which two segments go the convex way */
+#define NEAR_PARALLEL 1e-4  /* sin² of the angle below which two segments take seg_seg_parallel */
 #define STACK 128         /* BVH depth limit (clearance.py builds balanced trees, depth < 40) */
 #define CHUNK 64          /* configurations per range of rmt_parallel_for */
 #define LANES 8           /* configurations whose frames are computed together (one AVX-512 vector) */
@@ -67,15 +68,21 @@ typedef struct {          /* what one configuration's pairs report to */
   long long code;         /* the candidate (see scratch.code) that gave best */
 } sink;
 
+typedef struct { double lb; long long node, cap; } qitem;   /* a capsule to walk a sphere set's tree with */
+
 typedef struct {          /* the scratch space of one thread */
   double *F;              /* nbody × 12 × LANES frames of a block of configurations (lane fastest) */
   double *cs;             /* n × 2 × LANES: cos, sin of each joint's angle */
-  double *W;              /* nbody × 4 bounding balls in the world */
-  wcap *C;                /* ncap */
+  double *W;              /* LANES × nbody × 4 bounding balls in the world */
+  wcap *C;                /* LANES × ncap */
+  const wcap *Cl;         /* the lane whose pairs are evaluated: its capsules ... */
+  const double *Wl;       /* ... and its bodies' balls */
   double *lb;             /* candidates: lower bounds */
   long long *code;        /* ... and what they are: b · nprim + p (obstacle), −1 − k (body pair k) */
   long long hint;         /* the candidate that gave the previous configuration's minimum (NO_HINT: none) */
-  double *plb;            /* nprim4: one body's lower bounds against every primitive */
+  double *plb;            /* nbody × nprim4: the bodies' lower bounds against every primitive */
+  qitem *heap;            /* ncap: the capsules to walk a sphere set's tree with, by bound */
+  unsigned char *done;    /* nprim: the sets searched for this configuration */
 } scratch;
 
 #define NO_HINT (-(1LL << 62))
@@ -97,6 +104,16 @@ RMT_INLINE double dist2(const double *a, const double *b)
   return x * x + y * y + z * z;
 }
 
+/* the squared gap between [min(a, a + d), max(a, a + d)] and [−h, h] (0 where they overlap).  Small
+   three-component loops are written out as here: GCC vectorises a loop of three as two lanes and one,
+   through the stack, and the store-to-load stalls cost more than the arithmetic */
+RMT_INLINE double gap2(double a, double d, double h)
+{
+  double e = a + d, lo = a < e ? a : e, hi = a < e ? e : a;
+  double g = lo - h > -h - hi ? lo - h : -h - hi;
+  return g > 0.0 ? g * g : 0.0;
+}
+
 /* ---- frames ---------------------------------------------------------------------------------- */
 /* sin and cos of LANES angles, vectorised: reduction by pi/2 in three parts (Cody & Waite, fdlibm's
    constants: exact enough for |x| <= SINCOS_FAST), Cephes' polynomials on [-pi/4, pi/4] (about 1 ulp);
@@ -104,11 +121,11 @@ RMT_INLINE double dist2(const double *a, const double *b)
 static const double PIO2_1 = 1.57079632673412561417e+00, PIO2_2 = 6.07710050630396597660e-11,
                     PIO2_2T = 2.02226624879595063154e-21, TWO_OVER_PI = 6.36619772367581382433e-01;
 
-RMT_INLINE void sincos_lanes(const double *restrict x, double *restrict c, double *restrict s)
+RMT_INLINE void sincos_lanes(const double *restrict x, double *restrict c, double *restrict s, const int NL)
 {
   double big = 0.0;
 #pragma omp simd reduction(max:big)
-  for (int l = 0; l < LANES; ++l) {
+  for (int l = 0; l < NL; ++l) {
     double v = x[l];
     double k = nearbyint(v * TWO_OVER_PI);
     double r = ((v - k * PIO2_1) - k * PIO2_2) - k * PIO2_2T;
@@ -127,32 +144,33 @@ RMT_INLINE void sincos_lanes(const double *restrict x, double *restrict c, doubl
     big = a > big ? a : big;
   }
   if (!(big <= SINCOS_FAST))                                  /* a huge angle (or NaN): libm */
-    for (int l = 0; l < LANES; ++l)
+    for (int l = 0; l < NL; ++l)
       if (!(fabs(x[l]) <= SINCOS_FAST)) { s[l] = sin(x[l]); c[l] = cos(x[l]); }
 }
 
-/* the frames of nl <= LANES configurations (lane l's joint j at q[l * n + j]; lanes from nl on repeat
-   the last) up to body m->last: frame k (columns X Y Z O), component i of column c of lane l at
-   F[(12 k + 3 c + i) LANES + l] */
-static void frames(const rmt_clear_model *m, const double *q, int nl, scratch *s)
+/* the frames of nl <= NL <= LANES configurations (lane l's joint j at q[l * n + j]; lanes from nl on
+   repeat the last) up to body m->last: frame k (columns X Y Z O), component i of column c of lane l at
+   F[(12 k + 3 c + i) LANES + l].  NL (LANES for a batch, 1 for one configuration) is a constant where
+   the function is inlined, so the lane loops are vector code of that width */
+RMT_INLINE void frames(const rmt_clear_model *m, const double *q, int nl, scratch *s, const int NL)
 {
   long long n = m->n, last = m->last;
   long long kmax = last < n ? last : n;
   double *F = s->F, *cs = s->cs;
   for (int i = 0; i < 12; ++i)
-    for (int l = 0; l < LANES; ++l) F[i * LANES + l] = m->base[i];
+    for (int l = 0; l < NL; ++l) F[i * LANES + l] = m->base[i];
   double th[LANES], dd[LANES];
   for (long long k = 1; k <= kmax; ++k) {
     const double *row = m->dh + 8 * (k - 1);
     double a = row[0], ca = row[1], sa = row[2], d = row[3], theta = row[4];
     int pris = row[5] != 0.0;
-    for (int l = 0; l < LANES; ++l) {
+    for (int l = 0; l < NL; ++l) {
       double v = q[(l < nl ? l : nl - 1) * n + k - 1];
       th[l] = pris ? theta : theta + v;
       dd[l] = pris ? d + v : d;
     }
     double *ct = cs + 2 * LANES * (k - 1), *st = ct + LANES;
-    sincos_lanes(th, ct, st);
+    sincos_lanes(th, ct, st, NL);
     const double *P = F + 12 * LANES * (k - 1);
     double *G = F + 12 * LANES * k;
     if (m->modified) {        /* Rx(α)·Tx(a)·Rz(θ)·Tz(d) */
@@ -160,7 +178,7 @@ static void frames(const rmt_clear_model *m, const double *q, int nl, scratch *s
         const double *X = P + i * LANES, *Y = P + (3 + i) * LANES, *Z = P + (6 + i) * LANES, *O = P + (9 + i) * LANES;
         double *X2 = G + i * LANES, *Y2 = G + (3 + i) * LANES, *Z2 = G + (6 + i) * LANES, *O2 = G + (9 + i) * LANES;
         RMT_SIMD
-        for (int l = 0; l < LANES; ++l) {
+        for (int l = 0; l < NL; ++l) {
           double y1 = ca * Y[l] + sa * Z[l], z1 = -sa * Y[l] + ca * Z[l];
           X2[l] = ct[l] * X[l] + st[l] * y1;
           Y2[l] = -st[l] * X[l] + ct[l] * y1;
@@ -173,7 +191,7 @@ static void frames(const rmt_clear_model *m, const double *q, int nl, scratch *s
         const double *X = P + i * LANES, *Y = P + (3 + i) * LANES, *Z = P + (6 + i) * LANES, *O = P + (9 + i) * LANES;
         double *X2 = G + i * LANES, *Y2 = G + (3 + i) * LANES, *Z2 = G + (6 + i) * LANES, *O2 = G + (9 + i) * LANES;
         RMT_SIMD
-        for (int l = 0; l < LANES; ++l) {
+        for (int l = 0; l < NL; ++l) {
           double x1 = ct[l] * X[l] + st[l] * Y[l], y1 = -st[l] * X[l] + ct[l] * Y[l];
           X2[l] = x1;
           Y2[l] = ca * y1 + sa * Z[l];
@@ -192,43 +210,57 @@ static void frames(const rmt_clear_model *m, const double *q, int nl, scratch *s
         const double *X = P + i * LANES, *Y = P + (3 + i) * LANES, *Z = P + (6 + i) * LANES, *O = P + (9 + i) * LANES;
         double t0 = T[3 * c], t1 = T[3 * c + 1], t2 = T[3 * c + 2], one = c == 3 ? 1.0 : 0.0;
         RMT_SIMD
-        for (int l = 0; l < LANES; ++l) g[l] = one * O[l] + X[l] * t0 + Y[l] * t1 + Z[l] * t2;
+        for (int l = 0; l < NL; ++l) g[l] = one * O[l] + X[l] * t0 + Y[l] * t1 + Z[l] * t2;
       }
   }
 }
 
-/* p = F · v for lane l (a point given in frame F) */
-RMT_INLINE void apply(const double *F, int l, const double *v, double *p)
+/* the capsules and the bodies' balls in the world for the block's NL lanes (computed across the
+   lanes, then laid out per lane: capsule c of lane l at C[l ncap + c], body b's ball at W[4 (l nbody + b)]) */
+RMT_INLINE void place(const rmt_clear_model *m, scratch *s, const int NL)
 {
-  for (int i = 0; i < 3; ++i)
-    p[i] = F[(9 + i) * LANES + l] + F[i * LANES + l] * v[0] + F[(3 + i) * LANES + l] * v[1]
-         + F[(6 + i) * LANES + l] * v[2];
-}
-
-/* the capsules and the bodies' balls in the world for lane l of the block */
-static void place(const rmt_clear_model *m, int l, scratch *s)
-{
+  long long ncap = m->ncap, nbody = m->nbody;
+  double t[9][LANES];
   for (long long b = 0; b <= m->last; ++b) {
     long long c0 = m->body_cap[b], c1 = m->body_cap[b + 1];
     if (c0 == c1) continue;
-    const double *Fb = s->F + 12 * LANES * b;
-    apply(Fb, l, m->body_sphere + 4 * b, s->W + 4 * b);
-    s->W[4 * b + 3] = m->body_sphere[4 * b + 3];
+    const double *F = s->F + 12 * LANES * b;
+    const double *ball = m->body_sphere + 4 * b;
+    for (int i = 0; i < 3; ++i) {
+      const double *X = F + i * LANES, *Y = F + (3 + i) * LANES, *Z = F + (6 + i) * LANES, *O = F + (9 + i) * LANES;
+      RMT_SIMD
+      for (int l = 0; l < NL; ++l) t[i][l] = O[l] + X[l] * ball[0] + Y[l] * ball[1] + Z[l] * ball[2];
+    }
+    for (int l = 0; l < NL; ++l) {
+      double *W = s->W + 4 * (l * nbody + b);
+      W[0] = t[0][l]; W[1] = t[1][l]; W[2] = t[2][l]; W[3] = ball[3];
+    }
     for (long long c = c0; c < c1; ++c) {      /* lengths do not change: dd, idd, rb come from Python */
       const double *K = m->cap + RMT_CAP_STRIDE * c;
-      wcap *w = s->C + c;
-      double e[3];
-      apply(Fb, l, K, w->a);
-      apply(Fb, l, K + 3, e);
-      for (int i = 0; i < 3; ++i) { w->d[i] = e[i] - w->a[i]; w->m[i] = 0.5 * (e[i] + w->a[i]); }
-      w->r = K[6];
-      w->dd = K[7];
-      w->idd = K[8];
-      w->rb = K[9];
-      w->body = b;
+      for (int i = 0; i < 3; ++i) {
+        const double *X = F + i * LANES, *Y = F + (3 + i) * LANES, *Z = F + (6 + i) * LANES, *O = F + (9 + i) * LANES;
+        RMT_SIMD
+        for (int l = 0; l < NL; ++l) {
+          double a = O[l] + X[l] * K[0] + Y[l] * K[1] + Z[l] * K[2];
+          double e = O[l] + X[l] * K[3] + Y[l] * K[4] + Z[l] * K[5];
+          t[i][l] = a; t[3 + i][l] = e - a; t[6 + i][l] = 0.5 * (e + a);
+        }
+      }
+      for (int l = 0; l < NL; ++l) {
+        wcap *w = s->C + l * ncap + c;
+        for (int i = 0; i < 3; ++i) { w->a[i] = t[i][l]; w->d[i] = t[3 + i][l]; w->m[i] = t[6 + i][l]; }
+        w->r = K[6];
+        w->dd = K[7];
+        w->idd = K[8];
+        w->rb = K[9];
+        w->body = b;
+      }
     }
   }
 }
+
+static void frames_block(const rmt_clear_model *m, const double *q, int nl, scratch *s) { frames(m, q, nl, s, LANES); }
+static void place_block(const rmt_clear_model *m, scratch *s) { place(m, s, LANES); }
 
 /* ---- distances --------------------------------------------------------------------------------- */
 /* squared distance of point p from segment a .. a + d (idd = 1/(d·d) or 0); *t the segment parameter */
@@ -241,112 +273,158 @@ RMT_INLINE double seg_point(const double *a, const double *d, double idd, const 
   return x * x + y * y + z * z;
 }
 
-/* the convex functions minimised along a segment: value f and unit (sub)gradient n at point p */
-enum { SDF_BOX, SDF_CYLINDER, SDF_SEGMENT };
+/* the convex functions minimised along a segment: value f and unit (sub)gradient n at point p, and
+   *cond, how much rounding the gradient's direction may carry (in units of DBL_EPSILON per unit slope):
+   a direction taken from a short vector (a point just outside the solid, or near a cylinder's axis)
+   is uncertain, and a tangent line drawn with it may pass above f */
+enum { SDF_BOX, SDF_CYLINDER };
 
-RMT_INLINE double sdf(int kind, const double *S, const double *p, double *n)
+RMT_INLINE double sdf(int kind, const double *S, const double *p, double *n, double *cond)
 {
+  double size = fabs(p[0]) + fabs(p[1]) + fabs(p[2]) + S[0] + S[1] + (kind == SDF_BOX ? S[2] : 0.0);
   if (kind == SDF_BOX) {  /* S: half sizes */
-    double q[3], o[3], o2 = 0.0;
-    for (int i = 0; i < 3; ++i) {
-      q[i] = fabs(p[i]) - S[i];
-      o[i] = q[i] > 0.0 ? q[i] : 0.0;
-      o2 += o[i] * o[i];
-    }
+    double q[3] = { fabs(p[0]) - S[0], fabs(p[1]) - S[1], fabs(p[2]) - S[2] };
+    double o[3] = { q[0] > 0.0 ? q[0] : 0.0, q[1] > 0.0 ? q[1] : 0.0, q[2] > 0.0 ? q[2] : 0.0 };
+    double o2 = o[0] * o[0] + o[1] * o[1] + o[2] * o[2];
     if (o2 > 0.0) {
       double r = sqrt(o2), ir = 1.0 / r;
-      for (int i = 0; i < 3; ++i) n[i] = copysign(o[i] * ir, p[i]);
+      n[0] = copysign(o[0] * ir, p[0]); n[1] = copysign(o[1] * ir, p[1]); n[2] = copysign(o[2] * ir, p[2]);
+      *cond = 8.0 * (1.0 + size * ir);
       return r;
     }
     int k = q[0] >= q[1] ? (q[0] >= q[2] ? 0 : 2) : (q[1] >= q[2] ? 1 : 2);
     n[0] = n[1] = n[2] = 0.0;
     n[k] = copysign(1.0, p[k]);
+    *cond = 8.0;
     return q[k];
   }
-  if (kind == SDF_CYLINDER) {  /* S: radius, half length */
-    double rho = sqrt(p[0] * p[0] + p[1] * p[1]);
-    double ux = 1.0, uy = 0.0;
-    if (rho > 0.0) { ux = p[0] / rho; uy = p[1] / rho; }
-    double qr = rho - S[0], qz = fabs(p[2]) - S[1], sz = copysign(1.0, p[2]);
-    if (qr > 0.0 || qz > 0.0) {
-      double wr = qr > 0.0 ? qr : 0.0, wz = qz > 0.0 ? qz : 0.0;
-      double r = sqrt(wr * wr + wz * wz), ir = 1.0 / r;
-      n[0] = wr * ir * ux; n[1] = wr * ir * uy; n[2] = wz * ir * sz;
-      return r;
-    }
-    if (qr >= qz) { n[0] = ux; n[1] = uy; n[2] = 0.0; return qr; }
-    n[0] = n[1] = 0.0; n[2] = sz;
-    return qz;
+  /* SDF_CYLINDER: S: radius, half length */
+  double rho = sqrt(p[0] * p[0] + p[1] * p[1]);
+  double ux = 1.0, uy = 0.0;
+  if (rho > 0.0) { ux = p[0] / rho; uy = p[1] / rho; }
+  double qr = rho - S[0], qz = fabs(p[2]) - S[1], sz = copysign(1.0, p[2]);
+  if (qr > 0.0 || qz > 0.0) {
+    double wr = qr > 0.0 ? qr : 0.0, wz = qz > 0.0 ? qz : 0.0;
+    double r = sqrt(wr * wr + wz * wz), ir = 1.0 / r;
+    n[0] = wr * ir * ux; n[1] = wr * ir * uy; n[2] = wz * ir * sz;
+    *cond = 8.0 * (1.0 + size * ir);
+    return r;
   }
-  /* SDF_SEGMENT: S: a (3), d (3), 1/(d·d): the distance from the segment */
-  double t;
-  double v2 = seg_point(S, S + 3, S[6], p, &t);
-  double v[3] = { p[0] - S[0] - t * S[3], p[1] - S[1] - t * S[4], p[2] - S[2] - t * S[5] };
-  if (v2 <= 0.0) { n[0] = n[1] = n[2] = 0.0; return 0.0; }
-  double r = sqrt(v2), ir = 1.0 / r;
-  for (int i = 0; i < 3; ++i) n[i] = v[i] * ir;
-  return r;
+  if (qr >= qz) {
+    n[0] = ux; n[1] = uy; n[2] = 0.0;
+    *cond = 8.0 * (1.0 + (rho > 0.0 ? size / rho : HUGE_VAL));
+    return qr;
+  }
+  n[0] = n[1] = 0.0; n[2] = sz;
+  *cond = 8.0;
+  return qz;
 }
 
 typedef struct { double t, f, n[3]; } best_point;  /* the best point evaluated: parameter, value, gradient */
+
+/* a lower bound of min over t in [0, 1] of f(t) = sdf(P + t D) from two evaluations at lo < hi
+   (values f, computed slopes g, each within e of the true one), valid on the whole of [0, 1]: the
+   true tangent lines at lo and hi lie above lines of slopes g − e and g + e, whose crossing bounds f
+   on [lo, hi]; beyond them the lines' ends do.  With exact slopes (e = 0, g_lo < 0 < g_hi) it is the
+   crossing of the two tangents. */
+RMT_INLINE double bracket_bound(double lo, double flo, double glo, double elo, double hi, double fhi, double ghi,
+                                double ehi)
+{
+  double s1 = glo - elo, s2 = ghi + ehi, w = hi - lo, lb;
+  if (s1 >= 0.0) lb = flo;
+  else if (s2 <= 0.0) lb = fhi;
+  else lb = (s2 * flo - s1 * fhi + s1 * s2 * w) / (s2 - s1);
+  double left = flo - lo * (glo + elo > 0.0 ? glo + elo : 0.0);
+  double right = fhi - (1.0 - hi) * (ehi - ghi > 0.0 ? ehi - ghi : 0.0);
+  lb = left < lb ? left : lb;
+  return right < lb ? right : lb;
+}
 
 /* a lower bound of min_{t in [0,1]} sdf(P + t D), within TOL of it unless it is >= thr (then the
    search stops as soon as the bound shows it); *bp the best point evaluated */
 RMT_INLINE double convex_min(int kind, const double *S, const double *P, const double *D, double thr,
                              best_point *bp)
 {
-  double p[3], n[3];
-  double f0 = sdf(kind, S, P, n);
-  double g0 = dot3(n, D);
+  double p[3], n[3], c;
+  double eps = DBL_EPSILON * sqrt(dot3(D, D));               /* slope rounding per unit of cond */
+  double f0 = sdf(kind, S, P, n, &c);
+  double g0 = dot3(n, D), e0 = eps * c;
   bp->t = 0.0; bp->f = f0; bp->n[0] = n[0]; bp->n[1] = n[1]; bp->n[2] = n[2];
-  if (g0 >= 0.0) return f0;                 /* the minimum is at t = 0 */
-  for (int i = 0; i < 3; ++i) p[i] = P[i] + D[i];
-  double f1 = sdf(kind, S, p, n);
-  double g1 = dot3(n, D);
+  if (g0 >= 0.0) return g0 - e0 >= 0.0 ? f0 : f0 + (g0 - e0);   /* the minimum is at t = 0 */
+  p[0] = P[0] + D[0]; p[1] = P[1] + D[1]; p[2] = P[2] + D[2];
+  double f1 = sdf(kind, S, p, n, &c);
+  double g1 = dot3(n, D), e1 = eps * c;
   if (f1 < f0) { bp->t = 1.0; bp->f = f1; bp->n[0] = n[0]; bp->n[1] = n[1]; bp->n[2] = n[2]; }
-  if (g1 <= 0.0) return f1;                 /* ... at t = 1 */
-  double lo = 0.0, hi = 1.0, flo = f0, glo = g0, fhi = f1, ghi = g1;
+  if (g1 <= 0.0) {                                           /* ... at t = 1 */
+    double lb = g1 + e1 <= 0.0 ? f1 : f1 - (g1 + e1);
+    double l0 = f0 + (g0 - e0 < 0.0 ? g0 - e0 : 0.0);       /* (rounding: the slope at 0 bounds too) */
+    return l0 > lb ? l0 : lb;
+  }
+  double lo = 0.0, hi = 1.0, flo = f0, glo = g0, elo = e0, fhi = f1, ghi = g1, ehi = e1;
+  double lb = bracket_bound(lo, flo, glo, elo, hi, fhi, ghi, ehi);
   for (int step = 0; step < MAX_STEPS; ++step) {
     double w = hi - lo, den = ghi - glo;
-    double lb = (ghi * flo - glo * fhi + glo * ghi * w) / den;   /* where the two tangents cross */
     if (lb >= thr || bp->f - lb <= TOL || !(w > 1e-15)) return lb;
     double t = (step & 1) ? lo + (flo - fhi + ghi * w) / den     /* the tangents' crossing */
                           : lo - glo * w / den;                  /* the slope's secant root */
     double margin = 0.02 * w;
     if (t < lo + margin) t = lo + margin;
     if (t > hi - margin) t = hi - margin;
-    for (int i = 0; i < 3; ++i) p[i] = P[i] + t * D[i];
-    double ft = sdf(kind, S, p, n);
-    double gt = dot3(n, D);
+    p[0] = P[0] + t * D[0]; p[1] = P[1] + t * D[1]; p[2] = P[2] + t * D[2];
+    double ft = sdf(kind, S, p, n, &c);
+    double gt = dot3(n, D), et = eps * c;
     if (ft < bp->f) { bp->t = t; bp->f = ft; bp->n[0] = n[0]; bp->n[1] = n[1]; bp->n[2] = n[2]; }
-    if (gt == 0.0) return ft;               /* a minimum */
-    if (gt < 0.0) { lo = t; flo = ft; glo = gt; }
-    else          { hi = t; fhi = ft; ghi = gt; }
+    if (gt < 0.0) { lo = t; flo = ft; glo = gt; elo = et; }
+    else          { hi = t; fhi = ft; ghi = gt; ehi = et; }
+    double l = bracket_bound(lo, flo, glo, elo, hi, fhi, ghi, ehi);
+    lb = l > lb ? l : lb;                                   /* every bound holds: keep the best */
   }
-  double w = hi - lo;
-  return (ghi * flo - glo * fhi + glo * ghi * w) / (ghi - glo);
+  return lb;
 }
 
-/* distance of two segments (lower bound within TOL; exact but for rounding outside near-parallel
-   cases); *s, *t the closest points' parameters */
-RMT_INLINE double seg_seg(const wcap *c, const double *a2, const double *d2, double e, double ie, double thr,
-                          double *s_out, double *t_out)
+/* distance of two near-parallel segments, exact but for rounding where Ericson's 2×2 solve loses
+   digits: the least of (i) the distances of c's end points from segment 2 and (ii) over the points of
+   segment 2 whose projection falls on c's segment, their distance from c's line — measured in the plane
+   perpendicular to it, where segment 2 is a short segment and the distance is a 2-D point–segment one */
+static double seg_seg_parallel(const wcap *c, const double *a2, const double *d2, double ie, double *s_out,
+                               double *t_out)
+{
+  const double *a1 = c->a, *d1 = c->d;
+  double t, e1[3] = { a1[0] + d1[0], a1[1] + d1[1], a1[2] + d1[2] };
+  double best = seg_point(a2, d2, ie, a1, &t), s = 0.0;
+  double v = seg_point(a2, d2, ie, e1, t_out);
+  if (v < best) { best = v; s = 1.0; t = *t_out; }
+  double L = sqrt(c->dd), u[3] = { d1[0] / L, d1[1] / L, d1[2] / L };
+  double r[3] = { a2[0] - a1[0], a2[1] - a1[1], a2[2] - a1[2] };
+  double ru = dot3(r, u), du = dot3(d2, u);
+  double cp[3], dp[3];
+  for (int i = 0; i < 3; ++i) { cp[i] = r[i] - ru * u[i]; dp[i] = d2[i] - du * u[i]; }
+  double tlo = 0.0, thi = 1.0;                               /* where 0 <= ru + t du <= L */
+  if (du > 0.0) { double x = -ru / du, y = (L - ru) / du; tlo = x > tlo ? x : tlo; thi = y < thi ? y : thi; }
+  else if (du < 0.0) { double x = (L - ru) / du, y = -ru / du; tlo = x > tlo ? x : tlo; thi = y < thi ? y : thi; }
+  else if (ru < 0.0 || ru > L) thi = -1.0;
+  if (tlo <= thi) {
+    double pp = dot3(dp, dp), tp = pp > 0.0 ? -dot3(cp, dp) / pp : tlo;
+    tp = tp < tlo ? tlo : (tp > thi ? thi : tp);
+    double x[3] = { cp[0] + tp * dp[0], cp[1] + tp * dp[1], cp[2] + tp * dp[2] };
+    double w2 = dot3(x, x);
+    if (w2 < best) { best = w2; t = tp; s = clamp01((ru + tp * du) / L); }
+  }
+  *s_out = s;
+  *t_out = t;
+  return sqrt(best);
+}
+
+/* distance of two segments (exact but for rounding); *s, *t the closest points' parameters */
+RMT_INLINE double seg_seg(const wcap *c, const double *a2, const double *d2, double e, double ie, double *s_out,
+                          double *t_out)
 {
   const double *d1 = c->d;
   double r[3] = { c->a[0] - a2[0], c->a[1] - a2[1], c->a[2] - a2[2] };
   double a = c->dd, b = dot3(d1, d2), cc = dot3(d1, r), f = dot3(d2, r);
   double den = a * e - b * b;
-  if (den <= NEAR_PARALLEL * a * e && a > 0.0 && e > 0.0) {
-    /* near-parallel: min over s of the distance of c's point s from segment 2 (convex) */
-    double S[7] = { a2[0], a2[1], a2[2], d2[0], d2[1], d2[2], ie };
-    best_point bp;
-    double v = convex_min(SDF_SEGMENT, S, c->a, d1, thr, &bp);
-    double p[3] = { c->a[0] + bp.t * d1[0], c->a[1] + bp.t * d1[1], c->a[2] + bp.t * d1[2] };
-    seg_point(a2, d2, ie, p, t_out);
-    *s_out = bp.t;
-    return v;
-  }
-  double s = den > 0.0 ? clamp01((b * f - cc * e) / den) : 0.0;
+  if (den <= NEAR_PARALLEL * a * e && a > 0.0 && e > 0.0) return seg_seg_parallel(c, a2, d2, ie, s_out, t_out);
+  double s = den > 0.0 ? clamp01((b * f - cc * e) / den) : 0.0;   /* (den = 0: a ball) */
   double t = clamp01((b * s + f) * ie);
   s = clamp01((b * t - cc) * c->idd);
   double x = r[0] + s * d1[0] - t * d2[0], y = r[1] + s * d1[1] - t * d2[1], z = r[2] + s * d1[2] - t * d2[2];
@@ -381,7 +459,7 @@ static double cap_prim(const wcap *c, const double *P, long long kind, double th
     } else {
       double d2[3] = { P[7] - P[4], P[8] - P[5], P[9] - P[6] };
       double e = dot3(d2, d2);
-      v = seg_seg(c, P + 4, d2, e, e > 0.0 ? 1.0 / e : 0.0, thr + c->r + R, &s, &t) - c->r - R;
+      v = seg_seg(c, P + 4, d2, e, e > 0.0 ? 1.0 / e : 0.0, &s, &t) - c->r - R;
     }
     if (want && v < thr) {
       double p[3], o[3];
@@ -398,13 +476,8 @@ static double cap_prim(const wcap *c, const double *P, long long kind, double th
   double D[3] = { dot3(X, c->d), dot3(Y, c->d), dot3(Z, c->d) };
   /* first the distance between the segment's box and the solid's (its own, or the cylinder's): a
      lower bound, exact when the segment lies over one face */
-  double h[3] = { P[4], kind == RMT_PRIM_BOX ? P[5] : P[4], kind == RMT_PRIM_BOX ? P[6] : P[5] };
-  double g2 = 0.0;
-  for (int i = 0; i < 3; ++i) {
-    double e = A[i] + D[i], lo = A[i] < e ? A[i] : e, hi = A[i] < e ? e : A[i];
-    double gap = lo - h[i] > -h[i] - hi ? lo - h[i] : -h[i] - hi;
-    if (gap > 0.0) g2 += gap * gap;
-  }
+  int box = kind == RMT_PRIM_BOX;
+  double g2 = gap2(A[0], D[0], P[4]) + gap2(A[1], D[1], box ? P[5] : P[4]) + gap2(A[2], D[2], box ? P[6] : P[5]);
   if (g2 > 0.0 && far_apart(g2, c->r, thr)) return thr;     /* (g2 = 0 bounds nothing below -r) */
   best_point bp;
   double v = convex_min(kind == RMT_PRIM_BOX ? SDF_BOX : SDF_CYLINDER, P + 4, A, D, thr + c->r, &bp) - c->r;
@@ -419,6 +492,19 @@ static double cap_prim(const wcap *c, const double *P, long long kind, double th
     }
   }
   return v;
+}
+
+/* a lower bound of capsule w's clearance against anything under node N (its box, where apart from the
+   segment's box, and its ball), or HUGE_VAL when that cannot come below thr */
+RMT_INLINE double node_bound(const wcap *w, const double *N, double thr)
+{
+  double g2 = gap2(w->a[0] - N[4], w->d[0], N[7]) + gap2(w->a[1] - N[5], w->d[1], N[8])
+            + gap2(w->a[2] - N[6], w->d[2], N[9]);
+  if (g2 > 0.0 && far_apart(g2, w->r, thr)) return HUGE_VAL;
+  double t, d2 = seg_point(w->a, w->d, w->idd, N, &t);
+  if (far_apart(d2, w->r + N[3], thr)) return HUGE_VAL;
+  double l1 = sqrt(d2) - w->r - N[3], l2 = g2 > 0.0 ? sqrt(g2) - w->r : -HUGE_VAL;
+  return l1 > l2 ? l1 : l2;
 }
 
 /* the clearance of capsule c against the sphere set under node root when below thr (else thr);
@@ -446,15 +532,12 @@ static double cap_set(const rmt_clear_model *m, long long root, const wcap *c, d
       }
       continue;
     }
-    double lb[2];
-    for (int j = 0; j < 2; ++j) {
-      const double *N = m->node + 4 * L[j];
-      double t, d2 = seg_point(c->a, c->d, c->idd, N, &t);
-      lb[j] = far_apart(d2, c->r + N[3], best) ? HUGE_VAL : sqrt(d2) - c->r - N[3];
-    }
-    int nearer = lb[1] < lb[0];
-    if (lb[!nearer] < best) { stack[sp] = L[!nearer]; bound[sp] = lb[!nearer]; ++sp; }
-    if (lb[nearer] < best) { stack[sp] = L[nearer]; bound[sp] = lb[nearer]; ++sp; }
+    double lb0 = node_bound(c, m->node + RMT_NODE_STRIDE * L[0], best);
+    double lb1 = node_bound(c, m->node + RMT_NODE_STRIDE * L[1], best);
+    int nearer = lb1 < lb0;
+    double lbn = nearer ? lb1 : lb0, lbf = nearer ? lb0 : lb1;
+    if (lbf < best) { stack[sp] = L[!nearer]; bound[sp] = lbf; ++sp; }
+    if (lbn < best) { stack[sp] = L[nearer]; bound[sp] = lbn; ++sp; }
   }
   return best;
 }
@@ -477,44 +560,83 @@ static void body_bounds(const rmt_clear_model *m, const double *W, long long b, 
   RMT_SIMD
   for (long long p = 0; p < P4; ++p) {
     double dx = wx - cx[p], dy = wy - cy[p], dz = wz - cz[p];
-    double l1 = sqrt(dx * dx + dy * dy + dz * dz) - wr - cr[p];
+    double d2 = dx * dx + dy * dy + dz * dz;
     double gx = fabs(wx - ax[p]) - hx[p], gy = fabs(wy - ay[p]) - hy[p], gz = fabs(wz - az[p]) - hz[p];
     gx = gx > 0.0 ? gx : 0.0; gy = gy > 0.0 ? gy : 0.0; gz = gz > 0.0 ? gz : 0.0;
     double g2 = gx * gx + gy * gy + gz * gz;
-    double l2 = g2 > 0.0 ? sqrt(g2) - wr : -HUGE_VAL;
-    double l = l1 > l2 ? l1 : l2;
+    /* the larger of sqrt(d2) − r and sqrt(g2) (the box bounds only when g2 > 0), with one square root:
+       sqrt(d2) − r >= sqrt(g2)  <=>  x = d2 − r² − g2 >= 0 and x² >= 4 r² g2 */
+    double r = cr[p], x = d2 - r * r - g2;
+    int ball = g2 <= 0.0 || (x >= 0.0 && x * x >= 4.0 * r * r * g2);
+    double l = sqrt(ball ? d2 : g2) - wr - (ball ? r : 0.0);
     lb[p] = ((ign[p] >> b) & 1) ? HUGE_VAL : l;
   }
 }
 
-/* capsules of body b against primitive p, reporting to k */
+/* capsules of body b against primitive p (not a sphere set: see set_search), reporting to k */
 static void body_prim(const rmt_clear_model *m, const scratch *s, long long b, long long p, sink *k)
 {
   const double *P = m->prim + RMT_PRIM_STRIDE * p;
   long long kind = m->prim_int[4 * p];
   int want = k->mode == RMT_MODE_NEAREST;
   for (long long c = m->body_cap[b]; c < m->body_cap[b + 1]; ++c) {
-    const wcap *w = s->C + c;
+    const wcap *w = s->Cl + c;
     double thr = k->mode == RMT_MODE_PER_BODY ? k->bo[b] : k->best;
     if (far_apart(dist2(w->m, P), w->rb + P[3], thr)) continue;
-    double v;
-    if (kind == RMT_PRIM_SET) {
-      long long hit;
-      v = cap_set(m, m->prim_int[4 * p + 2], w, thr, &hit);
-      if (want && hit >= 0) {
-        const double *S = m->sphere + 4 * hit;
-        double t, q[3];
-        seg_point(w->a, w->d, w->idd, S, &t);
-        for (int i = 0; i < 3; ++i) q[i] = w->a[i] + t * w->d[i];
-        witness(k, q, S, w->r, S[3]);
-      }
-    } else {
-      v = cap_prim(w, P, kind, thr, want, k);
-    }
+    double v = cap_prim(w, P, kind, thr, want, k);
     if (v < thr) {
       if (k->mode == RMT_MODE_PER_BODY) k->bo[b] = v;
       else { k->best = v; k->body = b; k->other = m->prim_int[4 * p + 1]; k->code = b * m->nprim + p; }
     }
+  }
+}
+
+/* ---- sphere sets ---------------------------------------------------------------------------------------- */
+/* report sphere i of primitive p at clearance v from capsule c */
+static void set_hit(const rmt_clear_model *m, const scratch *s, long long p, long long c, long long i, double v,
+                    sink *k)
+{
+  const wcap *w = s->Cl + c;
+  if (k->mode == RMT_MODE_PER_BODY) { k->bo[w->body] = v; return; }
+  k->best = v; k->body = w->body; k->other = m->prim_int[4 * p + 1]; k->code = w->body * m->nprim + p;
+  if (k->mode == RMT_MODE_NEAREST) {
+    const double *S = m->sphere + 4 * i;
+    double t, q[3];
+    seg_point(w->a, w->d, w->idd, S, &t);
+    for (int j = 0; j < 3; ++j) q[j] = w->a[j] + t * w->d[j];
+    witness(k, q, S, w->r, S[3]);
+  }
+}
+
+
+/* every capsule against sphere set p at once: the capsules in the order of their bounds against the root
+   (the nearest sets a tight minimum for the others), each walked depth-first (cap_set) */
+static void set_search(const rmt_clear_model *m, scratch *s, long long p, sink *k)
+{
+  const double *P = m->prim + RMT_PRIM_STRIDE * p;
+  long long root = m->prim_int[4 * p + 2], mask = m->prim_int[4 * p + 3], n = 0;
+  const double *R = m->node + RMT_NODE_STRIDE * root;
+  qitem *h = s->heap;
+  for (long long b = 0; b <= m->last; ++b) {
+    if (m->body_cap[b] == m->body_cap[b + 1] || ((mask >> b) & 1)) continue;
+    const double *W = s->Wl + 4 * b;
+    double thr = k->mode == RMT_MODE_PER_BODY ? k->bo[b] : k->best;
+    if (far_apart(dist2(W, P), W[3] + P[3], thr)) continue;
+    for (long long c = m->body_cap[b]; c < m->body_cap[b + 1]; ++c) {
+      double lb = node_bound(s->Cl + c, R, thr);
+      if (!(lb < thr)) continue;
+      long long i = n++;                                   /* insertion by bound */
+      while (i > 0 && h[i - 1].lb > lb) { h[i] = h[i - 1]; --i; }
+      h[i] = (qitem){ lb, root, c };
+    }
+  }
+  for (long long i = 0; i < n; ++i) {
+    const wcap *w = s->Cl + h[i].cap;
+    double thr = k->mode == RMT_MODE_PER_BODY ? k->bo[w->body] : k->best;
+    if (!(h[i].lb < thr)) continue;
+    long long hit;
+    double v = cap_set(m, root, w, thr, &hit);
+    if (hit >= 0) set_hit(m, s, p, h[i].cap, hit, v, k);
   }
 }
 
@@ -524,14 +646,14 @@ static void body_pair(const rmt_clear_model *m, const scratch *s, long long pr, 
   long long bi = m->pair[2 * pr], bj = m->pair[2 * pr + 1];
   int per_body = k->mode == RMT_MODE_PER_BODY;
   for (long long ci = m->body_cap[bi]; ci < m->body_cap[bi + 1]; ++ci) {
-    const wcap *u = s->C + ci;
+    const wcap *u = s->Cl + ci;
     for (long long cj = m->body_cap[bj]; cj < m->body_cap[bj + 1]; ++cj) {
-      const wcap *w = s->C + cj;
+      const wcap *w = s->Cl + cj;
       double thr = per_body ? (k->bs[bi] > k->bs[bj] ? k->bs[bi] : k->bs[bj]) : k->best;
       double rr = u->r + w->r;
       if (far_apart(dist2(u->m, w->m), u->rb + w->rb, thr)) continue;
       double sa, tb;
-      double v = seg_seg(u, w->a, w->d, w->dd, w->idd, thr + rr, &sa, &tb) - rr;
+      double v = seg_seg(u, w->a, w->d, w->dd, w->idd, &sa, &tb) - rr;
       if (!(v < thr)) continue;
       if (per_body) {
         if (v < k->bs[bi]) k->bs[bi] = v;
@@ -553,10 +675,12 @@ RMT_INLINE int ignores(const rmt_clear_model *m, long long p, long long b)
   return (int)((m->prim_int[4 * p + 3] >> b) & 1);
 }
 
-RMT_INLINE void candidate(const rmt_clear_model *m, const scratch *s, long long code, sink *k)
+RMT_INLINE void candidate(const rmt_clear_model *m, scratch *s, long long code, sink *k)
 {
-  if (code >= 0) body_prim(m, s, code / m->nprim, code % m->nprim, k);
-  else body_pair(m, s, -1 - code, k);
+  if (code < 0) { body_pair(m, s, -1 - code, k); return; }
+  long long p = code % m->nprim;
+  if (m->prim_int[4 * p] != RMT_PRIM_SET) { body_prim(m, s, code / m->nprim, p, k); return; }
+  if (!s->done[p]) { s->done[p] = 1; set_search(m, s, p, k); }   /* every body at once */
 }
 
 /* every pair of one configuration (the capsules placed in s) */
@@ -568,17 +692,21 @@ static void pairs(const rmt_clear_model *m, scratch *s, sink *k)
     /* per body: its nearest primitive (by bound) first, then the others whose bounds come below */
     for (long long b = 0; b <= m->last; ++b) {
       if (m->body_cap[b] == m->body_cap[b + 1] || nprim == 0) continue;
-      body_bounds(m, s->W + 4 * b, b, plb);
-      long long first = 0;
-      for (long long p = 1; p < nprim; ++p) if (plb[p] < plb[first]) first = p;
+      body_bounds(m, s->Wl + 4 * b, b, plb);
+      long long first = -1;
+      for (long long p = 0; p < nprim; ++p)
+        if (m->prim_int[4 * p] != RMT_PRIM_SET && (first < 0 || plb[p] < plb[first])) first = p;
+      if (first < 0) continue;
       if (plb[first] < k->bo[b]) body_prim(m, s, b, first, k);
       for (long long p = 0; p < nprim; ++p)
-        if (p != first && plb[p] < k->bo[b]) body_prim(m, s, b, p, k);
+        if (p != first && plb[p] < k->bo[b] && m->prim_int[4 * p] != RMT_PRIM_SET) body_prim(m, s, b, p, k);
     }
+    for (long long p = 0; p < nprim; ++p)
+      if (m->prim_int[4 * p] == RMT_PRIM_SET) set_search(m, s, p, k);
     for (long long pr = 0; pr < m->npair; ++pr) {
       long long bi = m->pair[2 * pr], bj = m->pair[2 * pr + 1];
       double thr = k->bs[bi] > k->bs[bj] ? k->bs[bi] : k->bs[bj];
-      if (far_apart(dist2(s->W + 4 * bi, s->W + 4 * bj), s->W[4 * bi + 3] + s->W[4 * bj + 3], thr)) continue;
+      if (far_apart(dist2(s->Wl + 4 * bi, s->Wl + 4 * bj), s->Wl[4 * bi + 3] + s->Wl[4 * bj + 3], thr)) continue;
       body_pair(m, s, pr, k);
     }
     return;
@@ -587,21 +715,25 @@ static void pairs(const rmt_clear_model *m, scratch *s, sink *k)
      configurations come in order), then the candidates whose bounds come below the minimum so far,
      the lowest bound first */
   long long hint = s->hint;
+  if (m->nset > 0) memset(s->done, 0, (size_t)nprim);
   if (hint != NO_HINT) candidate(m, s, hint, k);
   double lo = HUGE_VAL;
-  long long first = -1;
+  long long first = -1, P4 = m->nprim4;
+  /* all the bounds first, then the scan (reading a bound right after its vector store stalls) */
+  for (long long b = 0; b <= m->last; ++b)
+    if (m->body_cap[b] < m->body_cap[b + 1] && nprim > 0) body_bounds(m, s->Wl + 4 * b, b, plb + P4 * b);
   for (long long b = 0; b <= m->last; ++b) {
-    if (m->body_cap[b] == m->body_cap[b + 1] || nprim == 0) continue;
-    body_bounds(m, s->W + 4 * b, b, plb);
+    if (m->body_cap[b] == m->body_cap[b + 1]) continue;
+    const double *pb = plb + P4 * b;
     for (long long p = 0; p < nprim; ++p) {
-      double lb = plb[p];
+      double lb = pb[p];
       if (!(lb < k->best) || b * nprim + p == hint) continue;
       if (lb < lo) { lo = lb; first = ncand; }
       s->lb[ncand] = lb; s->code[ncand++] = b * nprim + p;
     }
   }
   for (long long pr = 0; pr < m->npair; ++pr) {
-    const double *Wi = s->W + 4 * m->pair[2 * pr], *Wj = s->W + 4 * m->pair[2 * pr + 1];
+    const double *Wi = s->Wl + 4 * m->pair[2 * pr], *Wj = s->Wl + 4 * m->pair[2 * pr + 1];
     double d2 = dist2(Wi, Wj), rr = Wi[3] + Wj[3];
     if (-1 - pr == hint || far_apart(d2, rr, k->best)) continue;
     double lb = sqrt(d2) - rr;
@@ -619,18 +751,20 @@ static void scratch_layout(const rmt_clear_model *m, double *buf, scratch *s)
   s->F = buf;
   s->cs = s->F + 12 * LANES * m->nbody;
   s->W = s->cs + 2 * LANES * (m->n > 0 ? m->n : 1);
-  s->plb = s->W + 4 * m->nbody;
-  s->C = (wcap *)(s->plb + m->nprim4);
-  s->lb = (double *)(s->C + m->ncap);
+  s->plb = s->W + 4 * LANES * m->nbody;
+  s->C = (wcap *)(s->plb + m->nbody * m->nprim4);
+  s->heap = (qitem *)(s->C + LANES * m->ncap);
+  s->lb = (double *)(s->heap + m->ncap);
   s->code = (long long *)(s->lb + m->nbody * m->nprim + m->npair);
+  s->done = (unsigned char *)(s->code + m->nbody * m->nprim + m->npair);
   s->hint = NO_HINT;
 }
 
 static size_t scratch_size(const rmt_clear_model *m)
 {
-  return sizeof(double) * (size_t)((12 * LANES + 4) * m->nbody + 2 * LANES * (m->n > 0 ? m->n : 1) + m->nprim4)
-       + sizeof(wcap) * (size_t)m->ncap
-       + (sizeof(double) + sizeof(long long)) * (size_t)(m->nbody * m->nprim + m->npair);
+  return sizeof(double) * (size_t)(16 * LANES * m->nbody + 2 * LANES * (m->n > 0 ? m->n : 1) + m->nbody * m->nprim4)
+       + sizeof(wcap) * (size_t)(LANES * m->ncap) + sizeof(qitem) * (size_t)m->ncap
+       + (sizeof(double) + sizeof(long long)) * (size_t)(m->nbody * m->nprim + m->npair) + (size_t)m->nprim;
 }
 /* ---- entry points ------------------------------------------------------------------------------- */
 typedef struct {
@@ -654,10 +788,12 @@ static void run_range(void *ctx, long long begin, long long end)
   long long B = m->nbody;
   for (long long i0 = begin; i0 < end; i0 += LANES) {
     int nl = end - i0 < LANES ? (int)(end - i0) : LANES;
-    frames(m, J->Q + m->n * i0, nl, &s);
+    frames_block(m, J->Q + m->n * i0, nl, &s);
+    place_block(m, &s);
     for (int l = 0; l < nl; ++l) {
       long long i = i0 + l;
-      place(m, l, &s);
+      s.Cl = s.C + l * m->ncap;
+      s.Wl = s.W + 4 * l * B;
       sink k = { J->mode, J->cap, -1, -1, { NAN, NAN, NAN }, { NAN, NAN, NAN }, NULL, NULL, NO_HINT };
       if (J->mode == RMT_MODE_PER_BODY) {
         k.bo = J->bo + B * i;
@@ -701,8 +837,10 @@ double rmt_clear_one(const rmt_clear_model *m, const double *q, double cap)
   if (buf == NULL) return NAN;
   scratch s;
   scratch_layout(m, buf, &s);
-  frames(m, q, 1, &s);
-  place(m, 0, &s);
+  frames(m, q, 1, &s, 1);
+  place(m, &s, 1);
+  s.Cl = s.C;
+  s.Wl = s.W;
   sink k = { RMT_MODE_MIN, cap, -1, -1, { 0, 0, 0 }, { 0, 0, 0 }, NULL, NULL, NO_HINT };
   pairs(m, &s, &k);
   if (buf != local) free(buf);

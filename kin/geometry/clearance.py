@@ -60,6 +60,7 @@ SET_KIND = 4
 PRIM_STRIDE = 32
 PRIM_AABB = 24
 CAP_STRIDE = 12
+NODE_STRIDE = 10
 MODE_MIN, MODE_NEAREST, MODE_PER_BODY = 0, 1, 2
 
 
@@ -80,7 +81,8 @@ class _Model(ctypes.Structure):
     """``rmt_clear_model`` of clearance.h, field by field."""
 
     _fields_ = [(name, ctypes.c_longlong) for name in
-                ("n", "modified", "nbody", "last", "ncap", "nprim", "npair", "nnode", "nsphere", "nprim4")] + \
+                ("n", "modified", "nbody", "last", "ncap", "nprim", "npair", "nnode", "nsphere", "nprim4",
+                 "nset")] + \
                [(name, ctypes.c_void_p) for name in
                 ("dh", "base", "tool", "cap", "body_cap", "body_sphere", "prim_int", "prim", "prim_soa",
                  "prim_ignore", "pair", "node", "link", "sphere")]
@@ -139,10 +141,11 @@ def _segments(starts: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndar
 
 def sphere_tree(spheres, leaf: int = LEAF) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """A balanced bounding-sphere hierarchy of spheres (K, 4), built level by level in numpy: each node's
-    range is sorted along its widest axis and split at its middle.  Returns ``node`` (M, 4) balls (centre,
-    radius + :data:`MARGIN`: each holds every sphere below it), ``link`` (M, 2) children (left, right) or
-    (first sphere, −count) for a leaf, the spheres (K, 4) in leaf order, and ``rep`` (M,) one sphere of
-    each node (the one nearest its centre: an upper bound for the numpy walk).  Node 0 is the root."""
+    range is sorted along its widest axis and split at its middle.  Returns ``node`` (M, 10): a ball
+    (centre, radius) and a box (centre, half sizes) per node, each holding every sphere below it (plus
+    :data:`MARGIN`); ``link`` (M, 2): children (left, right), or (first sphere, −count) for a leaf; the
+    spheres (K, 4) in leaf order; ``rep`` (M,): one sphere of each node (the one nearest its centre: an
+    upper bound for the numpy walk).  Node 0 is the root; children come after their parents."""
     S = np.ascontiguousarray(spheres, dtype=float).reshape(-1, 4)
     K = len(S)
     perm = np.arange(K)
@@ -171,7 +174,7 @@ def sphere_tree(spheres, leaf: int = LEAF) -> tuple[np.ndarray, np.ndarray, np.n
     sizes = [len(st) for st, _ in levels]
     first = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
     M = int(first[-1])
-    node = np.empty((M, 4))
+    node = np.empty((M, NODE_STRIDE))
     link = np.empty((M, 2), np.int64)
     rep = np.empty(M, np.int64)
     for L, (st, en) in enumerate(levels):
@@ -185,6 +188,7 @@ def sphere_tree(spheres, leaf: int = LEAF) -> tuple[np.ndarray, np.ndarray, np.n
         gap = np.linalg.norm(C - np.repeat(centre, counts, axis=0), axis=1)
         node[ids, :3] = centre
         node[ids, 3] = np.maximum.reduceat(gap + R, off) * (1 + 1e-12) + MARGIN
+        node[ids, 4:7], node[ids, 7:10] = centre, 0.5 * (hi - lo) + MARGIN
         # the sphere nearest the centre: the first where the gap is its range's minimum
         gmin = np.repeat(np.minimum.reduceat(gap, off), counts)
         at = np.flatnonzero(gap == gmin)
@@ -231,7 +235,7 @@ class _Flat:
         dh = np.zeros((n, 8))
         dh[:, 0], dh[:, 1], dh[:, 2], dh[:, 3], dh[:, 4], dh[:, 5] = (
             rows[:, 0], np.cos(rows[:, 1]), np.sin(rows[:, 1]), rows[:, 2], rows[:, 3], rows[:, 4])
-        dh[:, 6] = np.where(rows[:, 4] != 0, MAX_PRISMATIC, np.inf)
+        dh[:, 6] = np.where(rows[:, 4] != 0, MAX_PRISMATIC, np.finfo(float).max)    # (refuses inf too)
         self.dh = dh
         self.world_base = base
         self.base = _columns(base @ chain.base.matrix)
@@ -299,7 +303,7 @@ class _Flat:
                 link[internal] += n_nodes
                 link[~internal, 0] += n_spheres
                 row = np.zeros(PRIM_STRIDE)
-                row[:4] = node[0]
+                row[:4] = node[0, :4]
                 lo, hi = (S[:, :3] - S[:, 3:]).min(axis=0), (S[:, :3] + S[:, 3:]).max(axis=0)
                 row[PRIM_AABB:PRIM_AABB + 3] = 0.5 * (lo + hi)
                 row[PRIM_AABB + 3:PRIM_AABB + 6] = 0.5 * (hi - lo) + MARGIN
@@ -320,7 +324,7 @@ class _Flat:
         self.prim_soa[4:, :P] = self.prim[:, PRIM_AABB:PRIM_AABB + 6].T
         self.prim_ignore = np.full(self.nprim4, -1, np.int64)
         self.prim_ignore[:P] = self.prim_int[:, 3]
-        self.node = np.concatenate(nodes) if nodes else np.zeros((0, 4))
+        self.node = np.concatenate(nodes) if nodes else np.zeros((0, NODE_STRIDE))
         self.link = np.concatenate(links) if links else np.zeros((0, 2), np.int64)
         self.sphere = np.concatenate(spheres) if spheres else np.zeros((0, 4))
         self.rep = np.concatenate(reps) if reps else np.zeros(0, np.int64)
@@ -333,7 +337,7 @@ class _Flat:
         arrays = {k: (a if a.size else np.zeros(1, a.dtype)) for k, a in arrays.items()}
         self._keep = arrays
         m = _Model(self.n, int(self.modified), self.nbody, self.last, len(self.cap), len(self.prim), len(self.pair),
-                   len(self.node), len(self.sphere), self.nprim4)
+                   len(self.node), len(self.sphere), self.nprim4, int((self.prim_int[:, 0] == SET_KIND).sum()))
         for k, a in arrays.items():
             setattr(m, k, a.ctypes.data)
         return m
@@ -436,7 +440,7 @@ class ClearanceModel:
             self._mp = ctypes.addressof(self._struct)
             self._q1 = (ctypes.c_double * n)()
             self._q1p = ctypes.addressof(self._q1)
-        self._lock = threading.Lock()
+            self.clear_one = self._fast_one()
 
     def __repr__(self) -> str:
         return (f"ClearanceModel({self.chain.name!r}, {len(self.geometry.capsules)} capsules, {len(self.obstacles)} "
@@ -573,20 +577,30 @@ class ClearanceModel:
         return r["obstacle"], r["self"]
 
     def clear_one(self, q: Sequence[float]) -> float:
-        """The minimum clearance of one configuration (a list of n floats, as OMPL's validity checker
-        passes it): the fast path, through preallocated buffers."""
-        one = self._one
-        if one is not None:
-            with self._lock:
-                try:
-                    self._q1[:] = q
-                except (TypeError, ValueError):
-                    pass
-                else:
-                    v = one(self._mp, self._q1p, self.cap)
-                    if v == v:           # not NaN: q was finite and within bounds
-                        return v
+        """The minimum clearance (m, ≤ cap) of one configuration: n floats (a list, as OMPL's validity
+        checker passes it, or an array).  With the compiled kernel this is a closure over preallocated
+        buffers (about 1–2 µs a call); without it, the numpy batch path."""
         Q, _ = self._Q(q)
         if Q.shape[0] != 1:
             raise ConfigurationError(f"clear_one takes one configuration ({self.chain.n},), got shape {Q.shape}")
         return float(self._run(Q, MODE_MIN, 1)["clearance"][0])
+
+    def _fast_one(self):
+        """:meth:`clear_one` through the kernel's single-configuration entry: q goes into a ctypes buffer
+        (a lock keeps threads from sharing it), the C checks it (NaN back when it is not finite or a
+        prismatic value is out of bounds), and anything it refuses takes the validating path."""
+        one, mp, qp, buf, cap, lock = self._one, self._mp, self._q1p, self._q1, self.cap, threading.Lock()
+        slow = self._slow_one = ClearanceModel.clear_one.__get__(self)
+
+        def clear_one(q: Sequence[float]) -> float:
+            with lock:
+                try:
+                    buf[:] = q
+                except (TypeError, ValueError):
+                    v = math.nan
+                else:
+                    v = one(mp, qp, cap)
+            return v if v == v else slow(q)
+
+        clear_one.__doc__ = ClearanceModel.clear_one.__doc__
+        return clear_one
