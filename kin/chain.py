@@ -320,9 +320,10 @@ class Chain:
         caps = []
         for c in g.capsules:
             T = transforms.get(c.body)
-            if T is not None:
-                c = replace(c, a=tuple(T[:3, :3] @ np.array(c.a) + T[:3, 3]),
-                            b=tuple(T[:3, :3] @ np.array(c.b) + T[:3, 3]))
+            if T is not None:       # coordinates below 1 nm are rounding noise: 0, as a robot file reads them
+                a, b = (np.where(np.abs(v) < 1e-9, 0.0, v) for v in (T[:3, :3] @ np.array(c.a) + T[:3, 3],
+                                                                    T[:3, :3] @ np.array(c.b) + T[:3, 3]))
+                c = replace(c, a=tuple(float(x) for x in a), b=tuple(float(x) for x in b))
             caps.append(c)
         return replace(chain, geometry=replace(g, capsules=tuple(caps)))
 

@@ -284,8 +284,11 @@ def body_label(chain: Chain, k: int) -> str:
 
 
 def _point(r: _Reader, v: Any, fld: str, ls: float) -> tuple[float, float, float]:
+    """A point of a shape in file units → m; a coordinate below 1 nm is 0 (rounding noise of a
+    computed geometry)."""
     xs = r.vector(v, fld, 3)
-    return tuple(r.length(x, f"{fld}[{i}]", ls) for i, x in enumerate(xs))  # type: ignore[return-value]
+    return tuple(0.0 if abs(x * ls) < MIN_LENGTH else r.length(x, f"{fld}[{i}]", ls)  # type: ignore[return-value]
+                 for i, x in enumerate(xs))
 
 
 def _size(r: _Reader, v: Any, fld: str, ls: float) -> float:

@@ -238,12 +238,13 @@ def _volume(R, lo, hi):
     return math.pi * R * R * np.maximum(hi - lo, 0.0) + 4.0 / 3.0 * math.pi * R ** 3
 
 
-def capsule_along(P: np.ndarray, u, point=None) -> Capsule:
+def capsule_along(P: np.ndarray, u, point=None, quick: bool = False) -> Capsule:
     """The capsule of least volume about an axis of direction ``u`` that holds the points P (N, 3).
 
     The axis passes through ``point`` when given, else through the centre of the smallest circle
     holding the points' projections across it; the radius is the largest distance of the points from
-    the chosen segment.
+    the chosen segment.  ``quick``: the best of a coarse set of radii, without refinement (for
+    comparing cuts).
     """
     P = np.asarray(P, dtype=float)
     u = np.asarray(u, dtype=float)
@@ -263,14 +264,16 @@ def capsule_along(P: np.ndarray, u, point=None) -> Capsule:
     if r_ball - rmax <= 1e-15 * max(1.0, r_ball):
         R_best = rmax
     else:
-        g = np.linspace(0.0, 1.0, 49) ** 2
+        g = np.linspace(0.0, 1.0, 17 if quick else 49) ** 2
         Rg = rmax + (r_ball - rmax) * g
         lo, hi = _ends(t, rho, Rg)
         V = _volume(Rg, lo, hi)
         k = int(np.argmin(V))
         x0, x1 = Rg[max(k - 1, 0)], Rg[min(k + 1, len(Rg) - 1)]
+        if quick:
+            x0 = x1 = Rg[k]
         ratio = (math.sqrt(5) - 1) / 2
-        for _ in range(40):                         # golden section on the bracket
+        for _ in range(0 if quick else 40):        # golden section on the bracket
             m0, m1 = x1 - ratio * (x1 - x0), x0 + ratio * (x1 - x0)
             lo2, hi2 = _ends(t, rho, np.array([m0, m1]))
             v = _volume(np.array([m0, m1]), lo2, hi2)
@@ -361,7 +364,7 @@ def _fit(P: np.ndarray, extra=(), refine: bool = True) -> Capsule:
         c = _tup(H[0])
         return Capsule(c, c, 0.0)
     cands = _pca_axes(H) + [np.asarray(e, dtype=float) for e in extra]
-    best = min((capsule_along(H, u) for u in cands), key=lambda c: c.volume)
+    best = min((capsule_along(H, u, quick=not refine) for u in cands), key=lambda c: c.volume)
     if not refine:
         return best
 
@@ -542,7 +545,7 @@ def _best_cut(tris: np.ndarray, k: int) -> list[np.ndarray] | None:
     """The cut of a triangle soup into ``k`` slabs (parallel planes) whose capsules (quick fits) have
     the smallest union; None when no cut leaves ``k`` non-empty pieces."""
     H = _hull_points(tris.reshape(-1, 3))
-    fractions = np.linspace(0.15, 0.85, 8) if k == 2 else np.linspace(0.1, 0.9, 9)
+    fractions = np.linspace(0.15, 0.85, 8) if k == 2 else np.linspace(0.1, 0.9, 7)
     best = None
     for i, n in enumerate(_directions(H)):
         if k == 3 and i >= 6:           # three slabs: along the principal and frame axes only
@@ -582,16 +585,17 @@ def enclose_mesh(vertices, faces, max_capsules: int = 3, gain: float = 0.05) -> 
     frame = np.eye(3)
     single = [_fit(tris.reshape(-1, 3), extra=frame)]
     v_single = union_volume(single)
-    best = (single, v_single, _mesh_over_estimate(single, tris))
+    over_single = _mesh_over_estimate(single, tris)
+    cands = []
     for k in range(2, max_capsules + 1):
         pieces = _best_cut(tris, k)
-        if pieces is None:
-            continue
-        caps = [_fit(p.reshape(-1, 3), extra=frame) for p in pieces]
-        vol = union_volume(caps)
-        if vol > (1 - gain * (k - 1)) * v_single or vol >= best[1]:
-            continue
+        if pieces is not None:
+            caps = [_fit(p.reshape(-1, 3), extra=frame) for p in pieces]
+            vol = union_volume(caps)
+            if vol <= (1 - gain * (k - 1)) * v_single:
+                cands.append((vol, caps))
+    for vol, caps in sorted(cands, key=lambda c: c[0]):     # the smallest union that is no worse
         over = _mesh_over_estimate(caps, tris)
-        if over <= best[2] * (1 + 1e-6) or (over <= 1.05 * best[2] and vol < 0.8 * best[1]):
-            best = (caps, vol, over)
-    return Enclosure(tuple(best[0]), best[2])
+        if over <= over_single * (1 + 1e-6) or (over <= 1.05 * over_single and vol < 0.8 * v_single):
+            return Enclosure(tuple(caps), over)
+    return Enclosure(tuple(single), over_single)

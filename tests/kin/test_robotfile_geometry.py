@@ -271,3 +271,9 @@ def test_chain_refuses_capsules_on_missing_bodies():
     chain = loads_robot(ARM)
     with pytest.raises(kin.ChainError, match="body 5"):
         replace(chain, geometry=RobotGeometry((LinkCapsule(5, (0, 0, 0), (0, 0, 0), 0.1),)))
+
+
+def test_sub_nanometre_coordinates_read_as_zero():
+    text = ARM + '\n[[geometry.capsule]]\nbody = "J1"\na = [1e-9, -3e-7, 5.0]\nb = [0, 0, 0]\nradius = 1\n'
+    (c,) = loads_robot(text).geometry.capsules
+    assert c.a == (0.0, 0.0, 0.005)              # mm: 1e-9 mm and 3e-7 mm are below 1 nm
