@@ -256,18 +256,24 @@ def _body_names(chain: Chain) -> dict[str, int]:
 
 
 def _body(r: _Reader, v: Any, fld: str, chain: Chain) -> int:
-    """A body named ``base``, ``tool``, ``link k`` or by its joint's name → its number (0 … n + 1)."""
+    """A body named ``base``, ``tool``, ``link k`` or by its joint's name → its number (0 … n + 1).
+
+    ``base``, ``tool`` and ``link k`` always mean those bodies (a joint named ``base``, as Universal
+    Robots name their first, is ``link 1`` here); a joint's name names its body when no other joint
+    has that name."""
     s = r.string(v, fld)
     fixed = _body_names(chain)
-    hits = {k for k, j in enumerate(chain.joints, 1) if j.name == s} | ({fixed[s]} if s in fixed else set())
+    if s in fixed:
+        return fixed[s]
+    hits = [k for k, j in enumerate(chain.joints, 1) if j.name == s]
     if len(hits) > 1:
-        raise r.fail(fld, f"{s!r} names bodies {', '.join(str(k) for k in sorted(hits))}; use 'link k' "
+        raise r.fail(fld, f"{s!r} names joints {', '.join(str(k) for k in hits)}; use 'link k' "
                      "(body k moves with joint k)")
     if not hits:
-        named = [j.name for j in chain.joints if j.name]
+        named = [j.name for j in chain.joints if j.name and j.name not in fixed]
         raise r.fail(fld, f"{s!r} is not a body; allowed: base, link 1 … link {chain.n}, tool"
                      + (f", or a joint name ({', '.join(named)})" if named else ""))
-    return hits.pop()
+    return hits[0]
 
 
 def body_label(chain: Chain, k: int) -> str:

@@ -231,14 +231,16 @@ def test_bad_geometry(extra, field, words):
     assert words in str(e)
 
 
-def test_ambiguous_body_name():
-    text = ARM.replace('name = "J2"', 'name = "link 3"')
-    e = bad(text + '\n[[geometry.sphere]]\nbody = "link 3"\ncenter = [0, 0, 0]\nradius = 1\n')
-    assert e.field == "geometry.sphere[0].body" and "names bodies 2, 3" in str(e)
-    # the dump never writes an ambiguous name
-    chain = loads_robot(text + '\n[[geometry.sphere]]\nbody = "link 2"\ncenter = [0, 0, 0]\nradius = 1\n')
-    assert 'body = "link 2"' in dumps_robot(chain)
-    assert loads_robot(dumps_robot(chain)) == chain
+def test_reserved_and_duplicate_body_names():
+    # base, tool and link k always mean those bodies, whatever the joints are called
+    text = ARM.replace('name = "J1"', 'name = "base"').replace('name = "J2"', 'name = "link 3"')
+    for body, k in (("base", 0), ("link 1", 1), ("link 3", 3), ("link 2", 2)):
+        chain = loads_robot(text + f'\n[[geometry.sphere]]\nbody = "{body}"\ncenter = [0, 0, 0]\nradius = 1\n')
+        assert chain.geometry.capsules[0].body == k
+        assert loads_robot(dumps_robot(chain)) == chain      # the dump never writes a name meaning another body
+    text = ARM.replace('name = "J2"', 'name = "J1"')
+    e = bad(text + '\n[[geometry.sphere]]\nbody = "J1"\ncenter = [0, 0, 0]\nradius = 1\n')
+    assert e.field == "geometry.sphere[0].body" and "names joints 1, 2; use 'link k'" in str(e)
 
 
 def test_too_many_shapes():
