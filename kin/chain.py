@@ -165,6 +165,12 @@ class Chain:
             if rigidity_defect(T) > 1e-6:
                 raise ChainError(f"{label} placement is not a rigid transform (rotation not orthonormal with "
                                  f"det +1, or bottom row not [0, 0, 0, 1])")
+        if self.geometry is not None:
+            bodies = [c.body for c in getattr(self.geometry, "capsules", ())]
+            wrong = [b for b in bodies if not 0 <= b <= self.n + 1]
+            if wrong:
+                raise ChainError(f"geometry: a capsule on body {wrong[0]}; the bodies of a {self.n}-joint chain are "
+                                 f"0 (base) … {self.n + 1} (tool)")
         if self.task is not None:
             bad = [r for r in self.task if r not in TASK_ROWS]
             if bad or not self.task or len(set(self.task)) != len(self.task):
@@ -285,12 +291,41 @@ class Chain:
         """A copy of this chain whose parameters have new nominal values (SI)."""
         vec = self.parameter_vector(values)
         params = {k: replace(p, value=float(v)) for (k, p), v in zip(self.parameters.items(), vec)}
-        return replace(self, parameters=params)
+        return replace(self, parameters=params)._default_geometry_again()
 
     def frozen(self, params: np.ndarray | None = None) -> "Chain":
         """A copy with every parameter name replaced by its (given or nominal) value."""
         joints = tuple(replace(j, **{f: self.resolve(getattr(j, f), params) for f in DH_FIELDS}) for j in self.joints)
-        return replace(self, joints=joints, parameters={})
+        return replace(self, joints=joints, parameters={})._default_geometry_again()
+
+    # ---- geometry --------------------------------------------------------------------------
+    def _default_geometry_again(self) -> "Chain":
+        """A geometry made of the default capsules (a stated radius: ``[geometry] radius``) follows the
+        DH offsets: rebuilt for this chain's rows, with the same radius, allowed pairs and source."""
+        g = self.geometry
+        if g is None or getattr(g, "radius", None) is None:
+            return self
+        from kin.geometry import RobotGeometry, default_geometry
+        new = default_geometry(self, g.radius)
+        return replace(self, geometry=RobotGeometry(new.capsules, g.allowed, g.source, g.radius, g.over_estimate))
+
+    def _moved_geometry(self, chain: "Chain", transforms: Mapping[int, np.ndarray]) -> "Chain":
+        """``chain`` (this machine in other DH frames) with this chain's capsules: body k's capsule
+        points mapped by ``transforms[k]`` (4×4, old frame k → new frame k; absent: unchanged)."""
+        g = self.geometry
+        if g is None:
+            return chain
+        if getattr(g, "radius", None) is not None:
+            return replace(chain, geometry=g)._default_geometry_again()
+        caps = []
+        for c in g.capsules:
+            T = transforms.get(c.body)
+            if T is not None:       # coordinates below 1 nm are rounding noise: 0, as a robot file reads them
+                a, b = (np.where(np.abs(v) < 1e-9, 0.0, v) for v in (T[:3, :3] @ np.array(c.a) + T[:3, 3],
+                                                                    T[:3, :3] @ np.array(c.b) + T[:3, 3]))
+                c = replace(c, a=tuple(float(x) for x in a), b=tuple(float(x) for x in b))
+            caps.append(c)
+        return replace(chain, geometry=replace(g, capsules=tuple(caps)))
 
     # ---- configurations --------------------------------------------------------------------
     def as_batch(self, q, what: str = "q", bounded: bool = True) -> tuple[np.ndarray, bool]:
@@ -383,7 +418,10 @@ class Chain:
             new.append(replace(j, a=prev.a if prev else 0.0, alpha=prev.alpha if prev else 0.0))
         tail = make_transform(rot_x(float(last.alpha)), [float(last.a), 0.0, 0.0])
         tool = Placement.from_matrix(tail @ self.tool.matrix) if (last.a or last.alpha) else self.tool
-        return replace(self, joints=tuple(new), convention="modified", tool=tool)
+        # body k's frame moves back along its row's Tx(a)·Rx(α): a point p of it becomes Tx(a)·Rx(α)·p
+        moves = {k: make_transform(rot_x(self.resolve(j.alpha)), [self.resolve(j.a), 0.0, 0.0])
+                 for k, j in enumerate(js, 1)}
+        return self._moved_geometry(replace(self, joints=tuple(new), convention="modified", tool=tool), moves)
 
     def to_standard(self) -> "Chain":
         """The same machine in standard (distal) DH.  FK is unchanged.
@@ -403,5 +441,8 @@ class Chain:
             new.append(replace(j, a=nxt.a if nxt else 0.0, alpha=nxt.alpha if nxt else 0.0))
         head = make_transform(rot_x(float(first.alpha)), [float(first.a), 0.0, 0.0])
         base = Placement.from_matrix(self.base.matrix @ head) if (first.a or first.alpha) else self.base
-        return replace(self, joints=tuple(new), convention="standard", base=base)
+        # body k < n: the standard frame k is the modified one moved on by row k + 1's Rx(α)·Tx(a)
+        moves = {k: np.linalg.inv(make_transform(rot_x(self.resolve(js[k].alpha)), [self.resolve(js[k].a), 0.0, 0.0]))
+                 for k in range(len(js))}
+        return self._moved_geometry(replace(self, joints=tuple(new), convention="standard", base=base), moves)
 

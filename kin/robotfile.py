@@ -35,11 +35,20 @@ from kin.validation import Fields, type_name
 
 ROBOT_DIR = Path(__file__).parent / "robots"
 TOP_FIELDS = ("name", "title", "source", "convention", "length_unit", "angle_unit", "joints", "base",
-              "tool", "parameters", "task")
+              "tool", "parameters", "task", "geometry")
 REQUIRED_TOP = ("name", "convention", "length_unit", "angle_unit", "joints")
 JOINT_FIELDS = ("type", "a", "alpha", "d", "theta", "limits", "name", "max_velocity", "max_acceleration")
 PLACEMENT_FIELDS = ("xyz", "rpy", "matrix")
 PARAMETER_FIELDS = ("value", "bounds")
+GEOMETRY_FIELDS = ("source", "radius", "allow", "over_estimate", "capsule", "sphere", "box", "cylinder")
+#: the fields of each shape table, required ones first (``rpy`` and ``name`` are optional)
+SHAPE_FIELDS = {"capsule": ("body", "a", "b", "radius", "name"),
+                "sphere": ("body", "center", "radius", "name"),
+                "box": ("body", "center", "size", "rpy", "name"),
+                "cylinder": ("body", "center", "radius", "length", "rpy", "name")}
+OPTIONAL_SHAPE_FIELDS = ("rpy", "name")
+#: at most this many shapes, and allowed pairs, in a [geometry] table
+MAX_SHAPES = 1000
 #: A revolute limit beyond this (rad) is almost surely a degree value in a file that says "rad".
 MAX_REVOLUTE_LIMIT = 8 * math.pi
 RIGID_TOL = 1e-6
@@ -114,6 +123,17 @@ class _Reader(Fields):
 
 
 _tname = type_name
+
+
+class _ShapeReader(_Reader):
+    """A reader whose messages also say which shape and body they are about."""
+
+    def __init__(self, path: str | None, note: str):
+        super().__init__(path)
+        self.note = note
+
+    def fail(self, field: str | None, msg: str) -> RobotFileError:
+        return RobotFileError(f"{msg}; {self.note}", self.path, field)
 
 
 def loads_robot(text: str, path: str | None = None) -> Chain:
@@ -220,10 +240,150 @@ def loads_robot(text: str, path: str | None = None) -> Chain:
     title = r.string(doc.get("title", ""), "title")
     source = r.string(doc.get("source", ""), "source")
     try:
-        return Chain(name=name, joints=tuple(joints), convention=convention, title=title, source=source,  # type: ignore[arg-type]
-                     length_unit=lu, angle_unit=au, base=base, tool=tool, parameters=params, task=task)
+        chain = Chain(name=name, joints=tuple(joints), convention=convention, title=title, source=source,  # type: ignore[arg-type]
+                      length_unit=lu, angle_unit=au, base=base, tool=tool, parameters=params, task=task)
     except ChainError as e:
         raise r.fail(None, str(e)) from None
+    if "geometry" in doc:
+        chain = replace(chain, geometry=_geometry(r, doc["geometry"], chain, ls, as_))
+    return chain
+
+
+# ---- the [geometry] table ------------------------------------------------------------------------
+def _body_names(chain: Chain) -> dict[str, int]:
+    """The fixed body names: ``base``, ``link 1`` … ``link n``, ``tool``."""
+    return {"base": 0, **{f"link {k}": k for k in range(1, chain.n + 1)}, "tool": chain.n + 1}
+
+
+def _body(r: _Reader, v: Any, fld: str, chain: Chain) -> int:
+    """A body named ``base``, ``tool``, ``link k`` or by its joint's name → its number (0 … n + 1).
+
+    ``base``, ``tool`` and ``link k`` always mean those bodies (a joint named ``base``, as Universal
+    Robots name their first, is ``link 1`` here); a joint's name names its body when no other joint
+    has that name."""
+    s = r.string(v, fld)
+    fixed = _body_names(chain)
+    if s in fixed:
+        return fixed[s]
+    hits = [k for k, j in enumerate(chain.joints, 1) if j.name == s]
+    if len(hits) > 1:
+        raise r.fail(fld, f"{s!r} names joints {', '.join(str(k) for k in hits)}; use 'link k' "
+                     "(body k moves with joint k)")
+    if not hits:
+        named = [j.name for j in chain.joints if j.name and j.name not in fixed]
+        raise r.fail(fld, f"{s!r} is not a body; allowed: base, link 1 … link {chain.n}, tool"
+                     + (f", or a joint name ({', '.join(named)})" if named else ""))
+    return hits[0]
+
+
+def body_label(chain: Chain, k: int) -> str:
+    """The name a robot file gives body ``k``: ``base``, ``tool``, its joint's name when that names
+    it alone, else ``link k``."""
+    if k == 0:
+        return "base"
+    if k == chain.n + 1:
+        return "tool"
+    nm = chain.joints[k - 1].name
+    if nm and nm not in _body_names(chain) and sum(j.name == nm for j in chain.joints) == 1:
+        return nm
+    return f"link {k}"
+
+
+def _point(r: _Reader, v: Any, fld: str, ls: float) -> tuple[float, float, float]:
+    """A point of a shape in file units → m; a coordinate below 1 nm is 0 (rounding noise of a
+    computed geometry)."""
+    xs = r.vector(v, fld, 3)
+    return tuple(0.0 if abs(x * ls) < MIN_LENGTH else r.length(x, f"{fld}[{i}]", ls)  # type: ignore[return-value]
+                 for i, x in enumerate(xs))
+
+
+def _size(r: _Reader, v: Any, fld: str, ls: float) -> float:
+    """A positive length (radius, edge, length) in file units → m."""
+    x = r.number(v, fld)
+    if x <= 0:
+        raise r.fail(fld, f"must be a positive length, got {x:g} (file length unit)")
+    return r.length(x, fld, ls)
+
+
+def _geometry(r: _Reader, raw: Any, chain: Chain, ls: float, as_: float):
+    """The [geometry] table → :class:`kin.geometry.RobotGeometry` (SI, body frames)."""
+    from kin.geometry import LinkCapsule, RobotGeometry, default_geometry
+    from kin.geometry.enclose import enclose_box, enclose_cylinder
+    from kin.transforms import make_transform, rpy_to_matrix
+
+    r.table(raw, "geometry", GEOMETRY_FIELDS)
+    source = r.string(raw["source"], "geometry.source") if "source" in raw else None
+    shapes = [k for k in SHAPE_FIELDS if k in raw]
+    count = 0
+    for kind in shapes:
+        if not isinstance(raw[kind], list) or not all(isinstance(t, dict) for t in raw[kind]):
+            raise r.fail(f"geometry.{kind}", f"must be an array of tables: write [[geometry.{kind}]]")
+        count += len(raw[kind])
+    if count > MAX_SHAPES:
+        raise r.fail("geometry", f"lists {count} shapes; at most {MAX_SHAPES} are allowed")
+    allowed = set()
+    pairs = raw.get("allow", [])
+    if not isinstance(pairs, list) or len(pairs) > MAX_SHAPES:
+        raise r.fail("geometry.allow", f"must be a list of at most {MAX_SHAPES} pairs of body names, "
+                     f'e.g. [["link 4", "link 6"]]')
+    for i, pair in enumerate(pairs):
+        fld = f"geometry.allow[{i}]"
+        if not isinstance(pair, list) or len(pair) != 2:
+            raise r.fail(fld, f'must be a pair of body names, e.g. ["link 4", "link 6"], got {_tname(pair)} {pair!r}')
+        b0, b1 = (_body(r, x, f"{fld}[{j}]", chain) for j, x in enumerate(pair))
+        if b0 == b1:
+            raise r.fail(fld, f"names body {b0} twice; a pair is two bodies")
+        allowed.add((min(b0, b1), max(b0, b1)))
+    if not shapes:
+        if "over_estimate" in raw:
+            raise r.fail("geometry.over_estimate", "applies to listed shapes; without shapes the default "
+                         "capsules are the geometry")
+        radius = _size(r, raw["radius"], "geometry.radius", ls) if "radius" in raw else None
+        g = default_geometry(chain, radius)
+        return RobotGeometry(g.capsules, frozenset(allowed), source or g.source, g.radius)
+    if "radius" in raw:
+        raise r.fail("geometry.radius", "sets the radius of the default capsules, which are used only when no "
+                     "shapes are listed; give each shape its own radius")
+    over = 0.0
+    if "over_estimate" in raw:
+        if r.number(raw["over_estimate"], "geometry.over_estimate") < 0:
+            raise r.fail("geometry.over_estimate", f"must be ≥ 0, got {raw['over_estimate']}")
+        over = r.length(raw["over_estimate"], "geometry.over_estimate", ls)
+    caps = []
+    for kind in shapes:
+        fields = SHAPE_FIELDS[kind]
+        for i, t in enumerate(raw[kind]):
+            fld = f"geometry.{kind}[{i}]"
+            r.table(t, fld, fields)
+            required = [f for f in fields if f not in OPTIONAL_SHAPE_FIELDS]
+            for f in required:
+                if f not in t:
+                    optional = [f for f in fields if f in OPTIONAL_SHAPE_FIELDS]
+                    raise r.fail(f"{fld}.{f}", f"missing required field; a {kind} has {', '.join(required)} "
+                                 f"(optional: {', '.join(optional)})")
+            body = _body(r, t["body"], f"{fld}.body", chain)
+            sr = _ShapeReader(r.path, f"the {kind} on body {body_label(chain, body)!r}")
+            label = sr.string(t["name"], f"{fld}.name") if "name" in t else f"{body_label(chain, body)} {kind}"
+            if kind == "capsule":
+                caps.append(LinkCapsule(body, _point(sr, t["a"], f"{fld}.a", ls), _point(sr, t["b"], f"{fld}.b", ls),
+                                        _size(sr, t["radius"], f"{fld}.radius", ls), label))
+                continue
+            center = _point(sr, t["center"], f"{fld}.center", ls)
+            if kind == "sphere":
+                caps.append(LinkCapsule(body, center, center, _size(sr, t["radius"], f"{fld}.radius", ls), label))
+                continue
+            rpy = sr.vector(t.get("rpy", [0.0, 0.0, 0.0]), f"{fld}.rpy", 3)
+            pose = make_transform(rpy_to_matrix([sr.angle(x, f"{fld}.rpy[{j}]", as_) for j, x in enumerate(rpy)]),
+                                  np.array(center))
+            if kind == "box":
+                edges = sr.vector(t["size"], f"{fld}.size", 3)
+                enc = enclose_box([_size(sr, x, f"{fld}.size[{j}]", ls) for j, x in enumerate(edges)], pose)
+            else:
+                enc = enclose_cylinder(_size(sr, t["radius"], f"{fld}.radius", ls),
+                                       _size(sr, t["length"], f"{fld}.length", ls), pose)
+            over = max(over, enc.over_estimate)
+            caps += [LinkCapsule(body, c.a, c.b, c.radius, label) for c in enc.capsules]
+    return RobotGeometry(tuple(caps), frozenset(allowed), source or "robot file", None, over)
 
 
 def _placement(r: _Reader, raw: Any, fld: str, ls: float, as_: float) -> Placement:
@@ -340,7 +500,33 @@ def dumps_robot(chain: Chain) -> str:
         s = ls if p.kind == "length" else as_
         out += ["", f"[parameters.{_key(pname)}]", f"value = {_fmt(_to_file(p.value, s))}",
                 f"bounds = {_vec(p.bounds, s)}"]
+    if chain.geometry is not None:
+        out += _geometry_lines(chain, ls)
     return "\n".join(out) + "\n"
+
+
+def _geometry_lines(chain: Chain, ls: float) -> list[str]:
+    """The [geometry] table: the default capsules' radius, or every capsule (boxes and cylinders were
+    turned into capsules at load, and are written as those)."""
+    g = chain.geometry
+    out = ["", "[geometry]"]
+    if g.source not in ("default", "robot file"):
+        out.append(f"source = {_str(g.source)}")
+    if g.radius is not None:
+        out.append(f"radius = {_fmt(_to_file(g.radius, ls))}")
+    elif g.over_estimate > 0:
+        out.append(f"over_estimate = {_fmt(_to_file(g.over_estimate, ls))}")
+    if g.allowed:
+        out.append("allow = [" + ", ".join(f"[{_str(body_label(chain, i))}, {_str(body_label(chain, j))}]"
+                                           for i, j in sorted(g.allowed)) + "]")
+    if g.radius is not None:
+        return out
+    for c in g.capsules:
+        out += ["", "[[geometry.capsule]]", f"body = {_str(body_label(chain, c.body))}", f"a = {_vec(c.a, ls)}",
+                f"b = {_vec(c.b, ls)}", f"radius = {_fmt(_to_file(c.radius, ls))}"]
+        if c.name:
+            out.append(f"name = {_str(c.name)}")
+    return out
 
 
 def save_robot(chain: Chain, path: str | Path) -> Path:

@@ -126,11 +126,14 @@ def dh_frames(points: np.ndarray, dirs: np.ndarray, tip: np.ndarray) -> list[np.
     return frames
 
 
-def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str | None = None) -> Chain:
+def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str | None = None,
+                      collision: bool = True, max_capsules: int = 3, package_dirs=None) -> Chain:
     """The rmtkit chain (SI; lengths in m, angles in rad) of a URDF serial chain, same FK.
 
     ``convention`` is "standard" or "modified"; ``name`` defaults to the URDF robot's name made
-    lower-case with every other character than [a-z0-9] turned into "_".
+    lower-case with every other character than [a-z0-9] turned into "_".  With ``collision`` the
+    links' <collision> elements become the chain's capsules (:mod:`kin.urdf.collision`: up to
+    ``max_capsules`` per mesh, ``package_dirs`` maps package names to directories).
     """
     if convention not in ("standard", "modified"):
         raise UrdfError(f"convention {convention!r} unknown; allowed: standard, modified", sc.path)
@@ -147,7 +150,11 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
         name = re.sub(r"[^a-z0-9]+", "_", sc.robot_name.lower()).strip("_") or "imported"
     elif not NAME_RE.match(name):
         raise UrdfError(f"robot name {name!r} must match [a-z0-9_]+", sc.path)
-    chain = Chain(name=name, joints=tuple(joints), convention="standard",
+    geometry = None
+    if collision:
+        from kin.urdf.collision import collision_geometry
+        geometry = collision_geometry(sc, [*frames, tip], max_capsules, package_dirs)
+    chain = Chain(name=name, joints=tuple(joints), convention="standard", geometry=geometry,
                   title=f"{sc.robot_name or name}, {sc.base} to {sc.tip} (imported from URDF)",
                   source=f"converted from the URDF file {sc.path.rsplit('/', 1)[-1]} (chain {sc.base} -> {sc.tip}) "
                          "by rmt import-urdf" + ("; continuous joints get limits of one turn [-pi, pi]"
@@ -163,12 +170,16 @@ def _placement(T: np.ndarray) -> Placement:
 
 
 def import_urdf(path: str, base: str | None = None, tip: str | None = None, convention: str = "standard",
-                name: str | None = None) -> Chain:
+                name: str | None = None, collision: bool = True, max_capsules: int = 3,
+                package_dirs=None) -> Chain:
     """Read a URDF file and convert the chain ``base`` → ``tip`` to an rmtkit :class:`~kin.Chain`.
 
     Defaults: base = the root link, tip = the only leaf link (an error lists the leaves when there
     are several).  Fixed joints fold into the neighbouring transforms; revolute, continuous and
     prismatic joints become DH rows in ``convention``; base and tool transforms make FK identical.
+    With ``collision`` (default) the links' <collision> elements become capsules on the chain's
+    bodies (:mod:`kin.urdf.collision`); ``collision=False`` skips them (and their mesh files).
     """
-    return chain_from_serial(read_serial_chain(path, base, tip), convention, name)
+    return chain_from_serial(read_serial_chain(path, base, tip), convention, name, collision, max_capsules,
+                             package_dirs)
 

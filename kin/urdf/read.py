@@ -42,8 +42,26 @@ class UrdfJoint:
 
 
 @dataclass(frozen=True)
+class RigidLink:
+    """A link rigidly attached to one body of the chain: ``body`` 0 (the base link and what is fixed
+    to it), k (moved by the chain's joint k), n + 1 (the tool: the tip link and what is fixed below
+    it, unless the tip is the last joint's own link); ``pose`` its frame in the base link's frame at
+    q = 0; ``collisions`` its <collision> elements (yourdfpy's)."""
+
+    name: str
+    body: int
+    pose: np.ndarray
+    collisions: tuple = ()
+
+
+@dataclass(frozen=True)
 class SerialChain:
-    """The serial chain from ``base`` to ``tip`` of a URDF file (SI units)."""
+    """The serial chain from ``base`` to ``tip`` of a URDF file (SI units).
+
+    ``links``: every link rigidly attached to a body of the chain (through fixed joints, in any
+    branch); ``loose_links``: links that hold <collision> elements but move with a joint off the
+    chain (a gripper's fingers), which no body can carry.
+    """
 
     path: str
     robot_name: str
@@ -51,6 +69,8 @@ class SerialChain:
     tip: str
     joints: tuple[UrdfJoint, ...]
     tip_offset: np.ndarray                   # (4, 4): last joint's moving frame → tip link
+    links: tuple[RigidLink, ...] = ()
+    loose_links: tuple[str, ...] = ()
 
     @property
     def n(self) -> int:
@@ -88,7 +108,8 @@ def joint_motion(j: UrdfJoint, q: float) -> np.ndarray:
 
 
 def load_urdf_model(path: str | Path):
-    """Parse a URDF file with yourdfpy (no meshes, no scene graph); errors become :class:`UrdfError`."""
+    """Parse a URDF file with yourdfpy (no meshes, no scene graph: :mod:`kin.urdf.collision` reads
+    collision meshes itself); errors become :class:`UrdfError`."""
     import yourdfpy
 
     path = str(path)
@@ -184,8 +205,52 @@ def read_serial_chain(path: str | Path, base: str | None = None, tip: str | None
         acc = np.eye(4)
     if not joints:
         raise UrdfError(f"the chain {base!r} → {tip!r} has no revolute, continuous or prismatic joint", path)
+    links, loose = _rigid_links(robot, base, tip, path_joints, parent_joint, children, len(joints))
     return SerialChain(path=path, robot_name=robot.name or "", base=base, tip=tip, joints=tuple(joints),
-                       tip_offset=acc)
+                       tip_offset=acc, links=links, loose_links=loose)
+
+
+def _origin(j) -> np.ndarray:
+    return np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=float)
+
+
+def _rigid_links(robot, base: str, tip: str, path_joints, parent_joint, children, n: int):
+    """The links fixed to each body of the chain and their poses at q = 0 (see :class:`RigidLink`),
+    and the links with collision elements that no body carries."""
+    by_name = {lk.name: lk for lk in robot.links}
+    on_path = {j.name: k for k, j in enumerate((j for j in path_joints if j.type != "fixed"), 1)}
+    tool = {tip}
+    stack = [tip]
+    while stack:                                    # the tip's subtree through fixed joints: the tool
+        for j in children[stack.pop()]:
+            if j.type == "fixed":
+                tool.add(j.child)
+                stack.append(j.child)
+    if parent_joint[tip].type != "fixed":           # the tip is the last joint's link: body n
+        tool.discard(tip)
+    found: dict[str, tuple[int, np.ndarray]] = {base: (0, np.eye(4))}
+    stack = [base]
+    while stack:
+        link = stack.pop()
+        body, pose = found[link]
+        neighbours = [(j.child, j, False) for j in children[link]]
+        if body == 0 and link in parent_joint:     # the base body reaches up through fixed joints too
+            neighbours.append((parent_joint[link].parent, parent_joint[link], True))
+        for other, j, up in neighbours:
+            if other in found:
+                continue
+            if j.type == "fixed":
+                b = n + 1 if (body == n and other in tool) else body
+                found[other] = (b, pose @ (np.linalg.inv(_origin(j)) if up else _origin(j)))
+            elif not up and j.name in on_path:
+                found[other] = (on_path[j.name], pose @ _origin(j))
+            else:
+                continue
+            stack.append(other)
+    links = tuple(RigidLink(name, b, T, tuple(by_name[name].collisions or ()))
+                  for name, (b, T) in found.items())
+    loose = tuple(lk.name for lk in robot.links if lk.name not in found and lk.collisions)
+    return links, loose
 
 
 def _movable(j, origin: np.ndarray, path: str, el: str) -> UrdfJoint:

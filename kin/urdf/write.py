@@ -1,4 +1,4 @@
-"""Writing a chain as URDF: one link per DH frame, simple cylinder visuals, the same FK.
+"""Writing a chain as URDF: one link per DH frame, simple cylinder visuals, collision capsules, the same FK.
 
 Each DH row is split around its joint motion, A_i = Pre_i · M(q_i) · Post_i, with M a rotation
 about z (revolute) or a translation along z (prismatic):
@@ -9,6 +9,12 @@ about z (revolute) or a translation along z (prismatic):
 URDF joint i then has axis z and origin Post_{i-1}·Pre_i (Post_0 = the base transform); a fixed
 joint with origin Post_n·tool carries the ``tool`` link.  Design parameters are written at their
 nominal values.  The XML is written with the standard library's ElementTree.
+
+The collision capsules (the chain's geometry, else the default one, :attr:`kin.Robot.geometry`) are
+written as <collision> elements of their body's link — URDF has no capsule, so each is a cylinder
+along its segment and a sphere of its radius on each end, exactly the same solid (a ball when the
+segment is a point).  A point p of DH frame k is Post_k·p in link k's frame, a point of frame 0 is
+base·p in ``base_link``'s, the tool frame is the ``tool`` link's.
 """
 from __future__ import annotations
 
@@ -73,6 +79,33 @@ def _segment(link: ET.Element, p: np.ndarray, radius: float) -> None:
     _cylinder(link, make_transform(np.column_stack([x, np.cross(z, x), z]), p / 2), radius, length, "rmt_grey")
 
 
+def _frame_along(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """A frame at the midpoint of a–b with its z axis along b − a."""
+    d = b - a
+    z = d / np.linalg.norm(d)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = np.cross(helper, z)
+    x /= np.linalg.norm(x)
+    return make_transform(np.column_stack([x, np.cross(z, x), z]), (a + b) / 2)
+
+
+def _capsule(link: ET.Element, T: np.ndarray, a, b, radius: float, name: str) -> None:
+    """A capsule (segment a–b in the body frame, ``T`` body frame → link frame) as a cylinder and two
+    spheres; a ball when a = b."""
+    pa = T[:3, :3] @ np.asarray(a, dtype=float) + T[:3, 3]
+    pb = T[:3, :3] @ np.asarray(b, dtype=float) + T[:3, 3]
+    ends = [pa] if np.linalg.norm(pb - pa) < 1e-12 else [pa, pb]
+    if len(ends) == 2:
+        col = ET.SubElement(link, "collision", name=f"{name}_cylinder")
+        _origin(col, _frame_along(pa, pb))
+        ET.SubElement(ET.SubElement(col, "geometry"), "cylinder", radius=_num(radius),
+                      length=_num(float(np.linalg.norm(pb - pa))))
+    for end, p in zip("ab", ends):
+        col = ET.SubElement(link, "collision", name=f"{name}_{end}")
+        _origin(col, make_transform(None, p))
+        ET.SubElement(ET.SubElement(col, "geometry"), "sphere", radius=_num(radius))
+
+
 def _joint_names(chain: Chain) -> list[str]:
     names, seen = [], set()
     for i, nm in enumerate(chain.joint_names(), 1):
@@ -83,7 +116,8 @@ def _joint_names(chain: Chain) -> list[str]:
 
 
 def chain_to_urdf(chain: Chain) -> str:
-    """URDF text of ``chain`` (SI: metres, radians): links ``base_link``, ``link_1``…``link_n``, ``tool``."""
+    """URDF text of ``chain`` (SI: metres, radians): links ``base_link``, ``link_1``…``link_n``, ``tool``,
+    each with its collision capsules."""
     chain = chain.frozen()
     parts = _split(chain)
     origins = [chain.base.matrix @ parts[0][0]]
@@ -96,15 +130,20 @@ def chain_to_urdf(chain: Chain) -> str:
     for name, rgba in (("rmt_grey", GREY), ("rmt_joint", ORANGE)):
         ET.SubElement(ET.SubElement(robot, "material", name=name), "color", rgba=rgba)
     links = ["base_link"] + [f"link_{i}" for i in range(1, chain.n + 1)] + ["tool"]
+    from kin.geometry import default_geometry
+    geometry = chain.geometry if chain.geometry is not None else default_geometry(chain)
+    to_link = [chain.base.matrix] + [post for _, post in parts] + [np.eye(4)]     # body frame → link frame
     for k, lname in enumerate(links):
         link = ET.SubElement(robot, "link", name=lname)
-        if lname == "tool":
-            continue
         if k == 0:       # a pedestal under the base frame
             _cylinder(link, make_transform(None, [0.0, 0.0, -radius / 2]), 2.0 * radius, radius, "rmt_grey")
-        else:            # the joint that moves this link: a short cylinder along its axis (z)
+        elif lname != "tool":    # the joint that moves this link: a short cylinder along its axis (z)
             _cylinder(link, np.eye(4), 1.4 * radius, 3.0 * radius, "rmt_joint")
-        _segment(link, origins[k][:3, 3], radius)
+        if lname != "tool":
+            _segment(link, origins[k][:3, 3], radius)
+        for i, c in enumerate(geometry.capsules):
+            if c.body == k:
+                _capsule(link, to_link[k], c.a, c.b, c.radius, f"capsule_{i}")
     for i, (j, jname) in enumerate(zip(chain.joints, _joint_names(chain))):
         el = ET.SubElement(robot, "joint", name=jname, type=j.type)
         ET.SubElement(el, "parent", link=links[i])

@@ -1,5 +1,6 @@
-"""``rmt import-urdf`` and ``rmt export-urdf``: a URDF's serial chain as a robot file, and any robot
-(bundled, a file, a designed one) as a URDF with simple cylinder visuals."""
+"""``rmt import-urdf`` and ``rmt export-urdf``: a URDF's serial chain (and its collision geometry, as
+capsules) as a robot file, and any robot (bundled, a file, a designed one) as a URDF with simple
+cylinder visuals and its collision capsules."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -17,22 +18,43 @@ def _out_path(out: str, suffix: str) -> Path:
     return path
 
 
+def _packages(items) -> dict[str, str]:
+    out = {}
+    for item in items or ():
+        name, sep, directory = item.partition("=")
+        if not sep or not name or not directory:
+            raise CliInputError(f"--package {item!r} must be NAME=DIR")
+        if not Path(directory).is_dir():
+            raise CliInputError(f"--package {item!r}: directory {directory!r} does not exist")
+        out[name] = directory
+    return out
+
+
 def cmd_import_urdf(args, load_robot) -> int:
     import kin
     from kin.urdf import import_urdf
 
     out = _out_path(args.out, ".toml")
-    chain = import_urdf(args.file, base=args.base, tip=args.tip, convention=args.convention, name=args.name)
+    chain = import_urdf(args.file, base=args.base, tip=args.tip, convention=args.convention, name=args.name,
+                        collision=not args.no_collision, max_capsules=args.capsules_per_mesh,
+                        package_dirs=_packages(args.package))
     kin.save_robot(chain, out)
+    g = chain.geometry
     if args.json:
         print(dump({"out": str(out), "name": chain.name, "joints": chain.n, "types": list(chain.joint_types),
                     "convention": chain.convention, "base_is_identity": chain.base.is_identity,
-                    "tool_is_identity": chain.tool.is_identity}))
+                    "tool_is_identity": chain.tool.is_identity, "capsules": 0 if g is None else len(g.capsules),
+                    "over_estimate": None if g is None else g.over_estimate,
+                    "geometry_source": None if g is None else g.source}))
         return EXIT_OK
     types = "".join("R" if j.is_revolute else "P" for j in chain.joints)
     print(f"{args.file}: {chain.title}")
     print(f"{chain.n} joints ({types}), {chain.convention} DH, written to {out} (m, rad); "
           f"see it with: rmt show {out}")
+    if g is not None:
+        print(f"collision geometry: {len(g.capsules)} capsules; {g.source}")
+    elif not args.no_collision:
+        print("collision geometry: none in the URDF; the robot gets the default capsules along its DH offsets")
     return EXIT_OK
 
 
@@ -47,7 +69,7 @@ def cmd_export_urdf(args, load_robot) -> int:
                     "links": ["base_link"] + [f"link_{i}" for i in range(1, robot.n + 1)] + ["tool"]}))
         return EXIT_OK
     print(f"{robot.chain.name}: {robot.n} joints written to {out} (links base_link, link_1 … link_{robot.n}, tool; "
-          "metres, radians)")
+          f"metres, radians; {len(robot.geometry.capsules)} collision capsules, each a cylinder and two spheres)")
     return EXIT_OK
 
 
@@ -59,7 +81,14 @@ def add_commands(add) -> None:
     sp.add_argument("--convention", choices=("standard", "modified"), default="standard",
                     help="DH convention of the robot file (default: standard)")
     sp.add_argument("--name", help="robot name, [a-z0-9_]+ (default: from the URDF's robot name)")
+    sp.add_argument("--no-collision", action="store_true",
+                    help="leave out the links' <collision> elements (and their mesh files): default capsules")
+    sp.add_argument("--capsules-per-mesh", type=int, choices=(1, 2, 3), default=3,
+                    help="capsules enclosing each collision mesh, at most (default: 3)")
+    sp.add_argument("--package", action="append", metavar="NAME=DIR",
+                    help="directory of the ROS package NAME for package:// mesh paths (repeatable; default: "
+                         "the directory of that name above the URDF file)")
     sp.add_argument("--out", required=True, metavar="ROBOT.toml", help="robot file to write")
-    sp = add("export-urdf", cmd_export_urdf, "write a robot as URDF with cylinder visuals (same FK)")
+    sp = add("export-urdf", cmd_export_urdf, "write a robot as URDF with cylinder visuals and collision capsules")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or robot file")
     sp.add_argument("--out", required=True, metavar="FILE.urdf", help="URDF file to write")

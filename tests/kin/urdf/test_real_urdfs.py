@@ -32,7 +32,7 @@ TOL = 1e-12
 
 def _imported(relative: str, tip: str, convention: str):
     path = erd_urdf(relative)
-    chain = import_urdf(str(path), tip=tip, convention=convention)
+    chain = import_urdf(str(path), tip=tip, convention=convention, collision=False)   # kinematics only here
     return path, chain, kin.Robot(chain)
 
 
