@@ -33,7 +33,6 @@ def always_touching_pairs(chain, geometry, samples: int = SAMPLES) -> list[tuple
     Q = rng.uniform(chain.lower, chain.upper, size=(samples, chain.n))
     Q = np.vstack([np.clip(np.zeros(chain.n), chain.lower, chain.upper), Q])
     F = body_frames(chain, Q)                                   # (S, B, 4, 4)
-    S = len(Q)
 
     def ends(c):            # the capsule's segment in the world, per sample: start (S, 3), direction (S, 3)
         R, t = F[:, c.body, :3, :3], F[:, c.body, :3, 3]
@@ -44,12 +43,11 @@ def always_touching_pairs(chain, geometry, samples: int = SAMPLES) -> list[tuple
     for c in geometry.capsules:
         caps.setdefault(c.body, []).append((c, *ends(c)))
     out = []
-    thr = np.full(S, np.inf)
     for i, j in pairs:
-        clear = np.full(S, np.inf)
+        clear = np.full(len(Q), np.inf)
         for ci, ai, di in caps[i]:
             for cj, aj, dj in caps[j]:
-                d, _, _ = seg_seg(ai, di, aj, dj, thr)
+                d, _, _ = seg_seg(ai, di, aj, dj)
                 clear = np.minimum(clear, d - ci.radius - cj.radius)
         if (clear <= TOUCH).all():
             out.append((i, j))
