@@ -364,9 +364,9 @@ def cell_view(world, q=None, *, path=None, meshes=None, title: str = "", closest
     names = ["robot links (capsules)", "tool", "DH frames",
              "closest approach" + {"all": "", "cell": " to the cell", "self": " within the robot", None: ""}[closest]]
     data0 = _robot_data(world, U, q, c0, closest, with_faces=True)
-    traces = [go.Mesh3d(**data0[0], color=ROBOT_COLOUR, opacity=1.0, flatshading=True, name=names[0],
+    traces = [go.Mesh3d(**data0[0], color=ROBOT_COLOUR, opacity=0.8, flatshading=True, name=names[0],
                         showlegend=True, hoverinfo="name"),
-              go.Mesh3d(**data0[1], color=TOOL_COLOUR, opacity=1.0, flatshading=True, name=names[1],
+              go.Mesh3d(**data0[1], color=TOOL_COLOUR, opacity=0.9, flatshading=True, name=names[1],
                         showlegend=True, hoverinfo="name"),
               go.Scatter3d(**data0[2], mode="lines+markers", name=names[2], line=dict(color=FRAME_COLOUR, width=3),
                            marker=dict(size=2.5, color=FRAME_COLOUR), hoverinfo="skip", visible="legendonly")]
@@ -437,7 +437,7 @@ def cell_view(world, q=None, *, path=None, meshes=None, title: str = "", closest
         legend=dict(itemsizing="constant", x=0.01, y=0.99, bgcolor="rgba(255,255,255,0.7)"),
         scene=dict(aspectmode="manual", aspectratio=dict(zip("xyz", (size / size.max()).tolist())),
                    xaxis=axis(0, "x"), yaxis=axis(1, "y"), zaxis=axis(2, "z"),
-                   camera=dict(eye=dict(x=1.15, y=-1.25, z=0.75))))
+                   camera=dict(eye=dict(x=1.0, y=-1.1, z=0.65))))
     if fig_frames:
         fig.update_layout(
             sliders=[dict(active=active, steps=steps, currentvalue=dict(prefix="along the path (%): "),
