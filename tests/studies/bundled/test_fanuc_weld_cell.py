@@ -247,7 +247,7 @@ def test_the_cell_aware_plan_is_clear_by_coal(run, world):
     assert mins.min() >= 0.010 - 1e-6, (mins.min(), int(mins.argmin()))
     bound = a["check"]["clearance_bound"]
     assert 0.010 <= bound <= mins.min() + 1e-9
-    assert a["check"]["min_clearance"] == pytest.approx(mins.min(), abs=2e-3)
+    assert a["check"]["min_clearance"] == pytest.approx(mins.min(), abs=5e-3)      # 0.1° states against 0.5°
     # and the closest approach to the cell it reports is where coal finds it
     cc = a["closest_cell"]
     got = clearances(world, cc["q"], part)
