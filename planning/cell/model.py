@@ -68,7 +68,8 @@ class Cell:
     other; ``obstacle_pairs``: (obstacle name, body name) pairs never checked; ``notes``: a line per
     obstacle saying where its spheres come from (meshes, point clouds), for reports; ``path``: the
     file read, if any; ``length_unit``: the file's (values here are SI); ``source``: what the cell was
-    read from when not a file (for messages).
+    read from when not a file (for messages); ``meshes``: the triangles (k, 3, 3) of each mesh obstacle
+    by name, placed in the cell (m, float32, read-only) — what its spheres enclose, kept for drawing.
     """
 
     name: str
@@ -81,6 +82,7 @@ class Cell:
     path: Path | None = None
     length_unit: str = "m"
     source: str = ""
+    meshes: dict[str, np.ndarray] = field(default_factory=dict)
 
     def __post_init__(self):
         where = self.where
@@ -89,6 +91,12 @@ class Cell:
         object.__setattr__(self, "body_pairs", tuple((str(a), str(b)) for a, b in self.body_pairs))
         object.__setattr__(self, "obstacle_pairs", tuple((str(a), str(b)) for a, b in self.obstacle_pairs))
         object.__setattr__(self, "notes", dict(self.notes))
+        meshes = {}
+        for ob_name, T in self.meshes.items():
+            T = np.array(T, dtype=np.float32).reshape(-1, 3, 3)
+            T.setflags(write=False)
+            meshes[str(ob_name)] = T
+        object.__setattr__(self, "meshes", meshes)
         B = np.array(self.base, dtype=float)
         if B.shape != (4, 4) or not np.all(np.isfinite(B)) or rigidity_defect(B) > 1e-6:
             raise CellError(f"{where}: the robot's placement must be a finite rigid 4×4 transform")
@@ -104,6 +112,9 @@ class Cell:
         for ob_name, _ in self.obstacle_pairs:
             if ob_name not in seen:
                 raise CellError(f"{where}: allowed pair names obstacle {ob_name!r}, which the cell does not have")
+        for ob_name in self.meshes:
+            if ob_name not in seen:
+                raise CellError(f"{where}: a mesh is given for obstacle {ob_name!r}, which the cell does not have")
 
     # ---- what it holds ------------------------------------------------------------------------
     @property

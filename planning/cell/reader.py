@@ -225,15 +225,17 @@ class _Budget:
                             f"triangles and points together")
 
 
-def _obstacle(f: _Table, kind: str, name: str, base_dir: Path, budget: _Budget) -> tuple[Obstacle, str | None]:
+def _obstacle(f: _Table, kind: str, name: str, base_dir: Path, budget: _Budget
+              ) -> tuple[Obstacle, str | None, np.ndarray | None]:
+    """The obstacle, its note (meshes, point clouds) and, for a mesh, its triangles placed in the cell (m)."""
     pose = f.pose()
     if kind == "box":
-        return Obstacle(name, (Shape("box", tuple(0.5 * f.sizes("size")), pose),), kind=kind), None
+        return Obstacle(name, (Shape("box", tuple(0.5 * f.sizes("size")), pose),), kind=kind), None, None
     if kind == "sphere":
-        return Obstacle(name, (Shape("sphere", (f.number("radius"), 0, 0), pose),), kind=kind), None
+        return Obstacle(name, (Shape("sphere", (f.number("radius"), 0, 0), pose),), kind=kind), None, None
     if kind in ("cylinder", "capsule"):
         r, length = f.number("radius"), f.number("length")
-        return Obstacle(name, (Shape(kind, (r, 0.5 * length, 0), pose),), kind=kind), None
+        return Obstacle(name, (Shape(kind, (r, 0.5 * length, 0), pose),), kind=kind), None, None
     path = _file(f, base_dir)
     scale = _file_scale(f)
     if kind == "mesh":
@@ -246,7 +248,7 @@ def _obstacle(f: _Table, kind: str, name: str, base_dir: Path, budget: _Budget) 
         T = _place(T.reshape(-1, 3) * scale, pose, f, path.name).reshape(-1, 3, 3)
         cover = enclose_triangles(T, tol, ms)
         note = (f"{path.name}: {len(T)} triangles in {len(cover.spheres)} spheres")
-        return Obstacle(name, spheres=cover.spheres, over_estimate=cover.over_estimate, kind=kind), note
+        return Obstacle(name, spheres=cover.spheres, over_estimate=cover.over_estimate, kind=kind), note, T
     pr = f.number("point_radius")
     merge = f.t.get("merge", True)
     if not isinstance(merge, bool):
@@ -256,7 +258,7 @@ def _obstacle(f: _Table, kind: str, name: str, base_dir: Path, budget: _Budget) 
     P = _place(P * scale, pose, f, path.name)
     cover = enclose_points(P, pr, merge)
     note = f"{path.name}: {len(P)} points in {len(cover.spheres)} spheres"
-    return Obstacle(name, spheres=cover.spheres, over_estimate=cover.over_estimate, kind=kind), note
+    return Obstacle(name, spheres=cover.spheres, over_estimate=cover.over_estimate, kind=kind), note, None
 
 
 def _tool(f: _Table, k: int) -> LinkCapsule:
@@ -301,7 +303,7 @@ def parse_cell(text: str, where: str = "cell", base_dir: str | Path | None = Non
         raise CellError(f"{where}: obstacle must be an array of tables ([[obstacle]])")
     if len(obstacles_raw) > MAX_OBSTACLES:
         raise CellError(f"{where}: {len(obstacles_raw)} obstacles; at most {MAX_OBSTACLES}")
-    obstacles, notes, pairs_ob, names = [], {}, [], {}
+    obstacles, notes, pairs_ob, names, meshes = [], {}, [], {}, {}
     budget = _Budget()
     for k, t in enumerate(obstacles_raw, 1):
         label = _label(where, "obstacle", k, t)
@@ -313,10 +315,12 @@ def parse_cell(text: str, where: str = "cell", base_dir: str | Path | None = Non
             raise CellError(f"{label}: name {ob_name!r} is already obstacle {names[ob_name]}'s; names must be unique")
         names[ob_name] = k
         ignore = f.names("ignore")
-        ob, note = _obstacle(f, kind, ob_name, base_dir, budget)
+        ob, note, triangles = _obstacle(f, kind, ob_name, base_dir, budget)
         obstacles.append(ob)
         if note:
             notes[ob_name] = note
+        if triangles is not None:
+            meshes[ob_name] = triangles
         pairs_ob += [(ob_name, b) for b in ignore]
     for ob_name, b in pairs_ob:
         if " ".join(b.split()) in names:
@@ -354,7 +358,7 @@ def parse_cell(text: str, where: str = "cell", base_dir: str | Path | None = Non
         else:
             body_pairs.append((a, b))
     return Cell(name, tuple(obstacles), base, tuple(tool), tuple(body_pairs), tuple(pairs_ob), notes,
-                length_unit=unit, source=where)
+                length_unit=unit, source=where, meshes=meshes)
 
 
 def load_cell(path: str | Path) -> Cell:

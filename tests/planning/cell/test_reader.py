@@ -77,6 +77,15 @@ def test_mesh_units_scale_and_pose(tmp_path):
     lo, hi = (ob.spheres[:, :3] - ob.spheres[:, 3:]).min(0), (ob.spheres[:, :3] + ob.spheres[:, 3:]).max(0)
     assert lo == pytest.approx([0.1 - 0.0254, -0.0254, -0.1524], abs=ob.over_estimate + 1e-9)
     assert hi == pytest.approx([0.1 + 0.0254, 0.0254, 0.1524], abs=ob.over_estimate + 1e-9)
+    # the triangles are kept, placed as the spheres are (for drawing), and every vertex is covered
+    cell = parse_cell(text.format(unit="in", scale="[1, 0.5, 2]"), "c.toml", base_dir=tmp_path)
+    T = cell.meshes["m"]
+    assert T.shape == (12, 3, 3) and T.dtype == np.float32 and not T.flags.writeable
+    V = np.unique(T.reshape(-1, 3).astype(float).round(6), axis=0)
+    assert V == pytest.approx(np.unique(expect.round(6), axis=0), abs=1e-7)
+    assert parse_cell('[[obstacle]]\nname = "b"\ntype = "box"\nsize = [1, 1, 1]\n', "c.toml").meshes == {}
+    with pytest.raises(CellError, match="a mesh is given for obstacle 'x', which the cell does not have"):
+        Cell("c", (), meshes={"x": T})
     # no unit: the file's numbers are in the cell's unit (mm)
     ob = one(text.replace('unit = "{unit}"\n', "").format(scale=1), base_dir=tmp_path)
     assert (ob.spheres[:, :3] + ob.spheres[:, 3:]).max(0)[2] == pytest.approx(0.003, abs=ob.over_estimate + 1e-9)
