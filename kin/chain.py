@@ -305,7 +305,8 @@ class Chain:
         g = self.geometry
         if g is None or getattr(g, "radius", None) is None:
             return self
-        from kin.geometry import RobotGeometry, default_geometry
+        from kin.geometry.default import default_geometry
+        from kin.geometry.model import RobotGeometry
         new = default_geometry(self, g.radius)
         return replace(self, geometry=RobotGeometry(new.capsules, g.allowed, g.source, g.radius, g.over_estimate))
 

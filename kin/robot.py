@@ -17,25 +17,9 @@ from kin.compiled import MEASURE_NAMES, WANT_J, WANT_MANIP, WANT_SIGMA, WANT_T, 
 from kin.errors import ConfigurationError, OutBufferError, ParameterError
 from kin.robotfile import load_chain
 from kin.symbolic import SymbolicChain
+from kin.validation import real_array
 
 MAX_RANDOM = 100_000_000  # random_configurations: at most this many rows (0.8·n GB)
-
-
-def real_array(x, what: str, error: type[Exception]) -> np.ndarray:
-    """``x`` as an array of real numbers (int or float dtype), else ``error`` naming ``what``.
-
-    Strings, complex numbers, booleans, None and ragged nestings are refused (numpy would turn "1.5"
-    into 1.5 and drop imaginary parts).  Shape and finiteness are the caller's to check.
-    """
-    if type(x) is not np.ndarray:
-        try:
-            x = np.asarray(x)
-        except (ValueError, TypeError) as e:
-            raise error(f"{what} is not an array of numbers ({e})") from None
-    if x.dtype.kind not in "fiu":
-        raise error(f"{what} must hold real numbers; got {x.dtype.name} values "
-                    f"(strings, complex numbers, booleans and objects are refused)")
-    return x
 
 
 class Measures(NamedTuple):

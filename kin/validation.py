@@ -17,7 +17,7 @@ import numpy as np
 
 from kin.errors import ArgumentError, RmtError
 
-__all__ = ["is_real", "is_count", "real", "count", "type_name", "Fields"]
+__all__ = ["is_real", "is_count", "real", "count", "type_name", "Fields", "real_array"]
 
 
 def is_real(x: Any) -> bool:
@@ -130,3 +130,20 @@ class Fields:
             got = f"{type_name(v)} of length {len(v)}" if isinstance(v, list) else f"{type_name(v)} {v!r}"
             raise self.fail(field, f"must be a list of {size} numbers, got {got}")
         return [self.number(x, f"{field}[{i}]") for i, x in enumerate(v)]
+
+
+def real_array(x, what: str, error: type[Exception]) -> np.ndarray:
+    """``x`` as an array of real numbers (int or float dtype), else ``error`` naming ``what``.
+
+    Strings, complex numbers, booleans, None and ragged nestings are refused (numpy would turn "1.5"
+    into 1.5 and drop imaginary parts).  Shape and finiteness are the caller's to check.
+    """
+    if type(x) is not np.ndarray:
+        try:
+            x = np.asarray(x)
+        except (ValueError, TypeError) as e:
+            raise error(f"{what} is not an array of numbers ({e})") from None
+    if x.dtype.kind not in "fiu":
+        raise error(f"{what} must hold real numbers; got {x.dtype.name} values "
+                    f"(strings, complex numbers, booleans and objects are refused)")
+    return x

@@ -38,7 +38,7 @@ from kin.geometry.frames import dh_rows
 from kin.geometry.model import RobotGeometry
 from kin.geometry.shapes import Obstacle, Shape
 from kin.native import build, default_threads, find_compiler
-from kin.validation import is_count, is_real, type_name
+from kin.validation import is_count, is_real, real_array, type_name
 
 __all__ = ["ClearanceModel", "Contact", "CLEARANCE_SOURCE", "MARGIN", "TOL", "sphere_tree"]
 
@@ -510,7 +510,6 @@ class ClearanceModel:
 
     # ---- calls ------------------------------------------------------------------------------------------
     def _Q(self, Q) -> tuple[np.ndarray, bool]:
-        from kin.robot import real_array
         return self.chain.as_batch(real_array(Q, "q", ConfigurationError))
 
     def _threads(self, N: int, threads) -> int:

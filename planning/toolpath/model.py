@@ -14,7 +14,7 @@ import numpy as np
 
 from kin.chain import ANGLE_UNITS, LENGTH_UNITS
 from kin.errors import RmtError
-from kin.robot import real_array
+from kin.validation import real_array
 from planning.toolpath.geometry import chord_length, times_from_feed
 
 __all__ = ["ToolPath", "ToolPathError", "MAX_WAYPOINTS", "FEED_RANGE", "MAX_COORDINATE", "robot_units"]
