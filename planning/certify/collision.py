@@ -108,8 +108,9 @@ def certify_collision(world, path, max_depth: int = MAX_DEPTH, max_evals: int = 
     seg = np.arange(S)
     t0, t1 = np.zeros(S), np.ones(S)
     o0, o1, s0, s1 = obs[:-1], obs[1:], slf[:-1], slf[1:]
-    # a segment with a colliding end is settled (the violation is that row)
-    keep = (rowmin[:-1] > m) & (rowmin[1:] > m)
+    # a segment that starts in collision is settled (the violation is its first row); one that ends in
+    # collision is searched for where it enters
+    keep = rowmin[:-1] > m
     seg, t0, t1, o0, o1, s0, s1 = seg[keep], t0[keep], t1[keep], o0[keep], o1[keep], s0[keep], s1[keep]
     bound = float(rowmin.min())
     unproven: set[int] = set()
@@ -172,6 +173,7 @@ def _result(world, P, hits, unproven, bound, min_s, min_i, evals) -> CollisionPr
             if deepest < min(clear, 0.0):
                 text += f"; up to {-deepest * 1e3:.3g} mm deep further along this segment"
         violation = Collision(k, t, np.array(q), body, other, clear, text, deepest)
+        unproven = [u for u in unproven if u < k]        # pieces at or after the violation do not matter
     proven = violation is None and not unproven
     return CollisionProof(proven, violation, list(unproven), bound if violation is None else -math.inf,
                           min_s, min_i, evals)

@@ -114,3 +114,17 @@ def test_proven_segments_are_clear_and_the_bound_holds(fanuc):
             assert world.clearance(proof.violation.q) <= 0
             assert c.min() <= 0
     assert proven >= 5 and found >= 5, (proven, found)
+
+
+def test_a_segment_that_ends_in_collision_is_reported_where_it_enters(fanuc):
+    """The first colliding state, not the colliding row: clearance ≤ 0 there and > 0 a little before."""
+    world = CollisionWorld(fanuc, obstacles=[_box((0.6, 0.0, 0.3), (0.3, 0.6, 0.6), "block")])
+    a = np.zeros(6)
+    b = np.array([0.0, 1.2, 0.9, 0.0, -1.0, 0.0])
+    assert world.clearance(a) > 0 and world.clearance(b) <= 0
+    v = certify_collision(world, np.array([a, b])).violation
+    assert v is not None and v.segment == 0 and 0 < v.t < 1
+    assert world.clearance(v.q) <= 0
+    ts = np.linspace(0, v.t, 2001)[:-1]
+    assert world.clearance(a + ts[:, None] * (b - a)).min() > -1e-9        # nothing deeper before it
+    assert v.deepest <= v.clearance and "obstacle 'block'" in v.text
