@@ -77,7 +77,7 @@ typedef struct {          /* the scratch space of one thread */
   double *lb;             /* candidates: lower bounds */
   long long *code;        /* ... and what they are: b · nprim + p (obstacle), −1 − k (body pair k) */
   long long hint;         /* the candidate that gave the previous configuration's minimum (NO_HINT: none) */
-  double *plb;            /* nprim4: one body's lower bounds against every primitive */
+  double *plb;            /* nbody × nprim4: the bodies' lower bounds against every primitive */
 } scratch;
 
 #define NO_HINT (-(1LL << 62))
@@ -106,11 +106,11 @@ RMT_INLINE double dist2(const double *a, const double *b)
 static const double PIO2_1 = 1.57079632673412561417e+00, PIO2_2 = 6.07710050630396597660e-11,
                     PIO2_2T = 2.02226624879595063154e-21, TWO_OVER_PI = 6.36619772367581382433e-01;
 
-RMT_INLINE void sincos_lanes(const double *restrict x, double *restrict c, double *restrict s)
+RMT_INLINE void sincos_lanes(const double *restrict x, double *restrict c, double *restrict s, const int NL)
 {
   double big = 0.0;
 #pragma omp simd reduction(max:big)
-  for (int l = 0; l < LANES; ++l) {
+  for (int l = 0; l < NL; ++l) {
     double v = x[l];
     double k = nearbyint(v * TWO_OVER_PI);
     double r = ((v - k * PIO2_1) - k * PIO2_2) - k * PIO2_2T;
@@ -129,32 +129,33 @@ RMT_INLINE void sincos_lanes(const double *restrict x, double *restrict c, doubl
     big = a > big ? a : big;
   }
   if (!(big <= SINCOS_FAST))                                  /* a huge angle (or NaN): libm */
-    for (int l = 0; l < LANES; ++l)
+    for (int l = 0; l < NL; ++l)
       if (!(fabs(x[l]) <= SINCOS_FAST)) { s[l] = sin(x[l]); c[l] = cos(x[l]); }
 }
 
-/* the frames of nl <= LANES configurations (lane l's joint j at q[l * n + j]; lanes from nl on repeat
-   the last) up to body m->last: frame k (columns X Y Z O), component i of column c of lane l at
-   F[(12 k + 3 c + i) LANES + l] */
-static void frames(const rmt_clear_model *m, const double *q, int nl, scratch *s)
+/* the frames of nl <= NL <= LANES configurations (lane l's joint j at q[l * n + j]; lanes from nl on
+   repeat the last) up to body m->last: frame k (columns X Y Z O), component i of column c of lane l at
+   F[(12 k + 3 c + i) LANES + l].  NL (LANES for a batch, 1 for one configuration) is a constant where
+   the function is inlined, so the lane loops are vector code of that width */
+RMT_INLINE void frames(const rmt_clear_model *m, const double *q, int nl, scratch *s, const int NL)
 {
   long long n = m->n, last = m->last;
   long long kmax = last < n ? last : n;
   double *F = s->F, *cs = s->cs;
   for (int i = 0; i < 12; ++i)
-    for (int l = 0; l < LANES; ++l) F[i * LANES + l] = m->base[i];
+    for (int l = 0; l < NL; ++l) F[i * LANES + l] = m->base[i];
   double th[LANES], dd[LANES];
   for (long long k = 1; k <= kmax; ++k) {
     const double *row = m->dh + 8 * (k - 1);
     double a = row[0], ca = row[1], sa = row[2], d = row[3], theta = row[4];
     int pris = row[5] != 0.0;
-    for (int l = 0; l < LANES; ++l) {
+    for (int l = 0; l < NL; ++l) {
       double v = q[(l < nl ? l : nl - 1) * n + k - 1];
       th[l] = pris ? theta : theta + v;
       dd[l] = pris ? d + v : d;
     }
     double *ct = cs + 2 * LANES * (k - 1), *st = ct + LANES;
-    sincos_lanes(th, ct, st);
+    sincos_lanes(th, ct, st, NL);
     const double *P = F + 12 * LANES * (k - 1);
     double *G = F + 12 * LANES * k;
     if (m->modified) {        /* Rx(α)·Tx(a)·Rz(θ)·Tz(d) */
@@ -162,7 +163,7 @@ static void frames(const rmt_clear_model *m, const double *q, int nl, scratch *s
         const double *X = P + i * LANES, *Y = P + (3 + i) * LANES, *Z = P + (6 + i) * LANES, *O = P + (9 + i) * LANES;
         double *X2 = G + i * LANES, *Y2 = G + (3 + i) * LANES, *Z2 = G + (6 + i) * LANES, *O2 = G + (9 + i) * LANES;
         RMT_SIMD
-        for (int l = 0; l < LANES; ++l) {
+        for (int l = 0; l < NL; ++l) {
           double y1 = ca * Y[l] + sa * Z[l], z1 = -sa * Y[l] + ca * Z[l];
           X2[l] = ct[l] * X[l] + st[l] * y1;
           Y2[l] = -st[l] * X[l] + ct[l] * y1;
@@ -175,7 +176,7 @@ static void frames(const rmt_clear_model *m, const double *q, int nl, scratch *s
         const double *X = P + i * LANES, *Y = P + (3 + i) * LANES, *Z = P + (6 + i) * LANES, *O = P + (9 + i) * LANES;
         double *X2 = G + i * LANES, *Y2 = G + (3 + i) * LANES, *Z2 = G + (6 + i) * LANES, *O2 = G + (9 + i) * LANES;
         RMT_SIMD
-        for (int l = 0; l < LANES; ++l) {
+        for (int l = 0; l < NL; ++l) {
           double x1 = ct[l] * X[l] + st[l] * Y[l], y1 = -st[l] * X[l] + ct[l] * Y[l];
           X2[l] = x1;
           Y2[l] = ca * y1 + sa * Z[l];
@@ -194,14 +195,14 @@ static void frames(const rmt_clear_model *m, const double *q, int nl, scratch *s
         const double *X = P + i * LANES, *Y = P + (3 + i) * LANES, *Z = P + (6 + i) * LANES, *O = P + (9 + i) * LANES;
         double t0 = T[3 * c], t1 = T[3 * c + 1], t2 = T[3 * c + 2], one = c == 3 ? 1.0 : 0.0;
         RMT_SIMD
-        for (int l = 0; l < LANES; ++l) g[l] = one * O[l] + X[l] * t0 + Y[l] * t1 + Z[l] * t2;
+        for (int l = 0; l < NL; ++l) g[l] = one * O[l] + X[l] * t0 + Y[l] * t1 + Z[l] * t2;
       }
   }
 }
 
-/* the capsules and the bodies' balls in the world for every lane of the block (computed across the
+/* the capsules and the bodies' balls in the world for the block's NL lanes (computed across the
    lanes, then laid out per lane: capsule c of lane l at C[l ncap + c], body b's ball at W[4 (l nbody + b)]) */
-static void place(const rmt_clear_model *m, scratch *s)
+RMT_INLINE void place(const rmt_clear_model *m, scratch *s, const int NL)
 {
   long long ncap = m->ncap, nbody = m->nbody;
   double t[9][LANES];
@@ -213,9 +214,9 @@ static void place(const rmt_clear_model *m, scratch *s)
     for (int i = 0; i < 3; ++i) {
       const double *X = F + i * LANES, *Y = F + (3 + i) * LANES, *Z = F + (6 + i) * LANES, *O = F + (9 + i) * LANES;
       RMT_SIMD
-      for (int l = 0; l < LANES; ++l) t[i][l] = O[l] + X[l] * ball[0] + Y[l] * ball[1] + Z[l] * ball[2];
+      for (int l = 0; l < NL; ++l) t[i][l] = O[l] + X[l] * ball[0] + Y[l] * ball[1] + Z[l] * ball[2];
     }
-    for (int l = 0; l < LANES; ++l) {
+    for (int l = 0; l < NL; ++l) {
       double *W = s->W + 4 * (l * nbody + b);
       W[0] = t[0][l]; W[1] = t[1][l]; W[2] = t[2][l]; W[3] = ball[3];
     }
@@ -224,13 +225,13 @@ static void place(const rmt_clear_model *m, scratch *s)
       for (int i = 0; i < 3; ++i) {
         const double *X = F + i * LANES, *Y = F + (3 + i) * LANES, *Z = F + (6 + i) * LANES, *O = F + (9 + i) * LANES;
         RMT_SIMD
-        for (int l = 0; l < LANES; ++l) {
+        for (int l = 0; l < NL; ++l) {
           double a = O[l] + X[l] * K[0] + Y[l] * K[1] + Z[l] * K[2];
           double e = O[l] + X[l] * K[3] + Y[l] * K[4] + Z[l] * K[5];
           t[i][l] = a; t[3 + i][l] = e - a; t[6 + i][l] = 0.5 * (e + a);
         }
       }
-      for (int l = 0; l < LANES; ++l) {
+      for (int l = 0; l < NL; ++l) {
         wcap *w = s->C + l * ncap + c;
         for (int i = 0; i < 3; ++i) { w->a[i] = t[i][l]; w->d[i] = t[3 + i][l]; w->m[i] = t[6 + i][l]; }
         w->r = K[6];
@@ -242,6 +243,9 @@ static void place(const rmt_clear_model *m, scratch *s)
     }
   }
 }
+
+static void frames_block(const rmt_clear_model *m, const double *q, int nl, scratch *s) { frames(m, q, nl, s, LANES); }
+static void place_block(const rmt_clear_model *m, scratch *s) { place(m, s, LANES); }
 
 /* ---- distances --------------------------------------------------------------------------------- */
 /* squared distance of point p from segment a .. a + d (idd = 1/(d·d) or 0); *t the segment parameter */
@@ -490,12 +494,15 @@ static void body_bounds(const rmt_clear_model *m, const double *W, long long b, 
   RMT_SIMD
   for (long long p = 0; p < P4; ++p) {
     double dx = wx - cx[p], dy = wy - cy[p], dz = wz - cz[p];
-    double l1 = sqrt(dx * dx + dy * dy + dz * dz) - wr - cr[p];
+    double d2 = dx * dx + dy * dy + dz * dz;
     double gx = fabs(wx - ax[p]) - hx[p], gy = fabs(wy - ay[p]) - hy[p], gz = fabs(wz - az[p]) - hz[p];
     gx = gx > 0.0 ? gx : 0.0; gy = gy > 0.0 ? gy : 0.0; gz = gz > 0.0 ? gz : 0.0;
     double g2 = gx * gx + gy * gy + gz * gz;
-    double l2 = g2 > 0.0 ? sqrt(g2) - wr : -HUGE_VAL;
-    double l = l1 > l2 ? l1 : l2;
+    /* the larger of sqrt(d2) − r and sqrt(g2) (the box bounds only when g2 > 0), with one square root:
+       sqrt(d2) − r >= sqrt(g2)  <=>  x = d2 − r² − g2 >= 0 and x² >= 4 r² g2 */
+    double r = cr[p], x = d2 - r * r - g2;
+    int ball = g2 <= 0.0 || (x >= 0.0 && x * x >= 4.0 * r * r * g2);
+    double l = sqrt(ball ? d2 : g2) - wr - (ball ? r : 0.0);
     lb[p] = ((ign[p] >> b) & 1) ? HUGE_VAL : l;
   }
 }
@@ -602,12 +609,15 @@ static void pairs(const rmt_clear_model *m, scratch *s, sink *k)
   long long hint = s->hint;
   if (hint != NO_HINT) candidate(m, s, hint, k);
   double lo = HUGE_VAL;
-  long long first = -1;
+  long long first = -1, P4 = m->nprim4;
+  /* all the bounds first, then the scan (reading a bound right after its vector store stalls) */
+  for (long long b = 0; b <= m->last; ++b)
+    if (m->body_cap[b] < m->body_cap[b + 1] && nprim > 0) body_bounds(m, s->Wl + 4 * b, b, plb + P4 * b);
   for (long long b = 0; b <= m->last; ++b) {
-    if (m->body_cap[b] == m->body_cap[b + 1] || nprim == 0) continue;
-    body_bounds(m, s->Wl + 4 * b, b, plb);
+    if (m->body_cap[b] == m->body_cap[b + 1]) continue;
+    const double *pb = plb + P4 * b;
     for (long long p = 0; p < nprim; ++p) {
-      double lb = plb[p];
+      double lb = pb[p];
       if (!(lb < k->best) || b * nprim + p == hint) continue;
       if (lb < lo) { lo = lb; first = ncand; }
       s->lb[ncand] = lb; s->code[ncand++] = b * nprim + p;
@@ -633,7 +643,7 @@ static void scratch_layout(const rmt_clear_model *m, double *buf, scratch *s)
   s->cs = s->F + 12 * LANES * m->nbody;
   s->W = s->cs + 2 * LANES * (m->n > 0 ? m->n : 1);
   s->plb = s->W + 4 * LANES * m->nbody;
-  s->C = (wcap *)(s->plb + m->nprim4);
+  s->C = (wcap *)(s->plb + m->nbody * m->nprim4);
   s->lb = (double *)(s->C + LANES * m->ncap);
   s->code = (long long *)(s->lb + m->nbody * m->nprim + m->npair);
   s->hint = NO_HINT;
@@ -641,7 +651,7 @@ static void scratch_layout(const rmt_clear_model *m, double *buf, scratch *s)
 
 static size_t scratch_size(const rmt_clear_model *m)
 {
-  return sizeof(double) * (size_t)(16 * LANES * m->nbody + 2 * LANES * (m->n > 0 ? m->n : 1) + m->nprim4)
+  return sizeof(double) * (size_t)(16 * LANES * m->nbody + 2 * LANES * (m->n > 0 ? m->n : 1) + m->nbody * m->nprim4)
        + sizeof(wcap) * (size_t)(LANES * m->ncap)
        + (sizeof(double) + sizeof(long long)) * (size_t)(m->nbody * m->nprim + m->npair);
 }
@@ -667,8 +677,8 @@ static void run_range(void *ctx, long long begin, long long end)
   long long B = m->nbody;
   for (long long i0 = begin; i0 < end; i0 += LANES) {
     int nl = end - i0 < LANES ? (int)(end - i0) : LANES;
-    frames(m, J->Q + m->n * i0, nl, &s);
-    place(m, &s);
+    frames_block(m, J->Q + m->n * i0, nl, &s);
+    place_block(m, &s);
     for (int l = 0; l < nl; ++l) {
       long long i = i0 + l;
       s.Cl = s.C + l * m->ncap;
@@ -716,8 +726,8 @@ double rmt_clear_one(const rmt_clear_model *m, const double *q, double cap)
   if (buf == NULL) return NAN;
   scratch s;
   scratch_layout(m, buf, &s);
-  frames(m, q, 1, &s);
-  place(m, &s);
+  frames(m, q, 1, &s, 1);
+  place(m, &s, 1);
   s.Cl = s.C;
   s.Wl = s.W;
   sink k = { RMT_MODE_MIN, cap, -1, -1, { 0, 0, 0 }, { 0, 0, 0 }, NULL, NULL, NO_HINT };
