@@ -19,6 +19,8 @@ from typing import Literal
 
 import numpy as np
 
+from kin.errors import GeometryError
+
 __all__ = ["SHAPE_KINDS", "LinkCapsule", "Shape", "Obstacle"]
 
 #: obstacle primitive kinds and the meaning of their ``size``
@@ -115,7 +117,10 @@ class Obstacle:
         object.__setattr__(self, "shapes", tuple(self.shapes))
         object.__setattr__(self, "ignore", frozenset(int(b) for b in self.ignore))
         if self.spheres is not None:
-            S = np.ascontiguousarray(self.spheres, dtype=float).reshape(-1, 4)
+            S = np.ascontiguousarray(self.spheres, dtype=float)
+            if S.ndim != 2 or S.shape[1] != 4:   # reshaping would silently regroup a (K, 3) array
+                raise GeometryError(f"obstacle {self.name!r}: spheres have shape {S.shape}; expected (K, 4) "
+                                    "x, y, z, radius")
             S.setflags(write=False)
             object.__setattr__(self, "spheres", S)
 
