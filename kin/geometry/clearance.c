@@ -36,6 +36,7 @@
 
    Threads: configurations in chunks over rmt_parallel_for (rmt_parallel.h); each configuration's
    result does not depend on the thread count. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include "rmt_common.h"
@@ -44,7 +45,7 @@
 
 #define TOL 1e-7          /* m: a convex minimisation stops when its lower and upper bounds are this close */
 #define MAX_STEPS 200     /* ... or after this many steps (rounding only), reporting the lower bound */
-#define NEAR_PARALLEL 1e-8  /* sin² of the angle below which two segments go the convex way */
+#define NEAR_PARALLEL 1e-4  /* sin² of the angle below which two segments take seg_seg_parallel */
 #define STACK 128         /* BVH depth limit (clearance.py builds balanced trees, depth < 40) */
 #define CHUNK 64          /* configurations per range of rmt_parallel_for */
 #define LANES 8           /* configurations whose frames are computed together (one AVX-512 vector) */
@@ -258,11 +259,15 @@ RMT_INLINE double seg_point(const double *a, const double *d, double idd, const 
   return x * x + y * y + z * z;
 }
 
-/* the convex functions minimised along a segment: value f and unit (sub)gradient n at point p */
-enum { SDF_BOX, SDF_CYLINDER, SDF_SEGMENT };
+/* the convex functions minimised along a segment: value f and unit (sub)gradient n at point p, and
+   *cond, how much rounding the gradient's direction may carry (in units of DBL_EPSILON per unit slope):
+   a direction taken from a short vector (a point just outside the solid, or near a cylinder's axis)
+   is uncertain, and a tangent line drawn with it may pass above f */
+enum { SDF_BOX, SDF_CYLINDER };
 
-RMT_INLINE double sdf(int kind, const double *S, const double *p, double *n)
+RMT_INLINE double sdf(int kind, const double *S, const double *p, double *n, double *cond)
 {
+  double size = fabs(p[0]) + fabs(p[1]) + fabs(p[2]) + S[0] + S[1] + (kind == SDF_BOX ? S[2] : 0.0);
   if (kind == SDF_BOX) {  /* S: half sizes */
     double q[3], o[3], o2 = 0.0;
     for (int i = 0; i < 3; ++i) {
@@ -273,59 +278,81 @@ RMT_INLINE double sdf(int kind, const double *S, const double *p, double *n)
     if (o2 > 0.0) {
       double r = sqrt(o2), ir = 1.0 / r;
       for (int i = 0; i < 3; ++i) n[i] = copysign(o[i] * ir, p[i]);
+      *cond = 8.0 * (1.0 + size * ir);
       return r;
     }
     int k = q[0] >= q[1] ? (q[0] >= q[2] ? 0 : 2) : (q[1] >= q[2] ? 1 : 2);
     n[0] = n[1] = n[2] = 0.0;
     n[k] = copysign(1.0, p[k]);
+    *cond = 8.0;
     return q[k];
   }
-  if (kind == SDF_CYLINDER) {  /* S: radius, half length */
-    double rho = sqrt(p[0] * p[0] + p[1] * p[1]);
-    double ux = 1.0, uy = 0.0;
-    if (rho > 0.0) { ux = p[0] / rho; uy = p[1] / rho; }
-    double qr = rho - S[0], qz = fabs(p[2]) - S[1], sz = copysign(1.0, p[2]);
-    if (qr > 0.0 || qz > 0.0) {
-      double wr = qr > 0.0 ? qr : 0.0, wz = qz > 0.0 ? qz : 0.0;
-      double r = sqrt(wr * wr + wz * wz), ir = 1.0 / r;
-      n[0] = wr * ir * ux; n[1] = wr * ir * uy; n[2] = wz * ir * sz;
-      return r;
-    }
-    if (qr >= qz) { n[0] = ux; n[1] = uy; n[2] = 0.0; return qr; }
-    n[0] = n[1] = 0.0; n[2] = sz;
-    return qz;
+  /* SDF_CYLINDER: S: radius, half length */
+  double rho = sqrt(p[0] * p[0] + p[1] * p[1]);
+  double ux = 1.0, uy = 0.0;
+  if (rho > 0.0) { ux = p[0] / rho; uy = p[1] / rho; }
+  double qr = rho - S[0], qz = fabs(p[2]) - S[1], sz = copysign(1.0, p[2]);
+  if (qr > 0.0 || qz > 0.0) {
+    double wr = qr > 0.0 ? qr : 0.0, wz = qz > 0.0 ? qz : 0.0;
+    double r = sqrt(wr * wr + wz * wz), ir = 1.0 / r;
+    n[0] = wr * ir * ux; n[1] = wr * ir * uy; n[2] = wz * ir * sz;
+    *cond = 8.0 * (1.0 + size * ir);
+    return r;
   }
-  /* SDF_SEGMENT: S: a (3), d (3), 1/(d·d): the distance from the segment */
-  double t;
-  double v2 = seg_point(S, S + 3, S[6], p, &t);
-  double v[3] = { p[0] - S[0] - t * S[3], p[1] - S[1] - t * S[4], p[2] - S[2] - t * S[5] };
-  if (v2 <= 0.0) { n[0] = n[1] = n[2] = 0.0; return 0.0; }
-  double r = sqrt(v2), ir = 1.0 / r;
-  for (int i = 0; i < 3; ++i) n[i] = v[i] * ir;
-  return r;
+  if (qr >= qz) {
+    n[0] = ux; n[1] = uy; n[2] = 0.0;
+    *cond = 8.0 * (1.0 + (rho > 0.0 ? size / rho : HUGE_VAL));
+    return qr;
+  }
+  n[0] = n[1] = 0.0; n[2] = sz;
+  *cond = 8.0;
+  return qz;
 }
 
 typedef struct { double t, f, n[3]; } best_point;  /* the best point evaluated: parameter, value, gradient */
+
+/* a lower bound of min over t in [0, 1] of f(t) = sdf(P + t D) from two evaluations at lo < hi
+   (values f, computed slopes g, each within e of the true one), valid on the whole of [0, 1]: the
+   true tangent lines at lo and hi lie above lines of slopes g − e and g + e, whose crossing bounds f
+   on [lo, hi]; beyond them the lines' ends do.  With exact slopes (e = 0, g_lo < 0 < g_hi) it is the
+   crossing of the two tangents. */
+RMT_INLINE double bracket_bound(double lo, double flo, double glo, double elo, double hi, double fhi, double ghi,
+                                double ehi)
+{
+  double s1 = glo - elo, s2 = ghi + ehi, w = hi - lo, lb;
+  if (s1 >= 0.0) lb = flo;
+  else if (s2 <= 0.0) lb = fhi;
+  else lb = (s2 * flo - s1 * fhi + s1 * s2 * w) / (s2 - s1);
+  double left = flo - lo * (glo + elo > 0.0 ? glo + elo : 0.0);
+  double right = fhi - (1.0 - hi) * (ehi - ghi > 0.0 ? ehi - ghi : 0.0);
+  lb = left < lb ? left : lb;
+  return right < lb ? right : lb;
+}
 
 /* a lower bound of min_{t in [0,1]} sdf(P + t D), within TOL of it unless it is >= thr (then the
    search stops as soon as the bound shows it); *bp the best point evaluated */
 RMT_INLINE double convex_min(int kind, const double *S, const double *P, const double *D, double thr,
                              best_point *bp)
 {
-  double p[3], n[3];
-  double f0 = sdf(kind, S, P, n);
-  double g0 = dot3(n, D);
+  double p[3], n[3], c;
+  double eps = DBL_EPSILON * sqrt(dot3(D, D));               /* slope rounding per unit of cond */
+  double f0 = sdf(kind, S, P, n, &c);
+  double g0 = dot3(n, D), e0 = eps * c;
   bp->t = 0.0; bp->f = f0; bp->n[0] = n[0]; bp->n[1] = n[1]; bp->n[2] = n[2];
-  if (g0 >= 0.0) return f0;                 /* the minimum is at t = 0 */
+  if (g0 >= 0.0) return g0 - e0 >= 0.0 ? f0 : f0 + (g0 - e0);   /* the minimum is at t = 0 */
   for (int i = 0; i < 3; ++i) p[i] = P[i] + D[i];
-  double f1 = sdf(kind, S, p, n);
-  double g1 = dot3(n, D);
+  double f1 = sdf(kind, S, p, n, &c);
+  double g1 = dot3(n, D), e1 = eps * c;
   if (f1 < f0) { bp->t = 1.0; bp->f = f1; bp->n[0] = n[0]; bp->n[1] = n[1]; bp->n[2] = n[2]; }
-  if (g1 <= 0.0) return f1;                 /* ... at t = 1 */
-  double lo = 0.0, hi = 1.0, flo = f0, glo = g0, fhi = f1, ghi = g1;
+  if (g1 <= 0.0) {                                           /* ... at t = 1 */
+    double lb = g1 + e1 <= 0.0 ? f1 : f1 - (g1 + e1);
+    double l0 = f0 + (g0 - e0 < 0.0 ? g0 - e0 : 0.0);       /* (rounding: the slope at 0 bounds too) */
+    return l0 > lb ? l0 : lb;
+  }
+  double lo = 0.0, hi = 1.0, flo = f0, glo = g0, elo = e0, fhi = f1, ghi = g1, ehi = e1;
+  double lb = bracket_bound(lo, flo, glo, elo, hi, fhi, ghi, ehi);
   for (int step = 0; step < MAX_STEPS; ++step) {
     double w = hi - lo, den = ghi - glo;
-    double lb = (ghi * flo - glo * fhi + glo * ghi * w) / den;   /* where the two tangents cross */
     if (lb >= thr || bp->f - lb <= TOL || !(w > 1e-15)) return lb;
     double t = (step & 1) ? lo + (flo - fhi + ghi * w) / den     /* the tangents' crossing */
                           : lo - glo * w / den;                  /* the slope's secant root */
@@ -333,37 +360,60 @@ RMT_INLINE double convex_min(int kind, const double *S, const double *P, const d
     if (t < lo + margin) t = lo + margin;
     if (t > hi - margin) t = hi - margin;
     for (int i = 0; i < 3; ++i) p[i] = P[i] + t * D[i];
-    double ft = sdf(kind, S, p, n);
-    double gt = dot3(n, D);
+    double ft = sdf(kind, S, p, n, &c);
+    double gt = dot3(n, D), et = eps * c;
     if (ft < bp->f) { bp->t = t; bp->f = ft; bp->n[0] = n[0]; bp->n[1] = n[1]; bp->n[2] = n[2]; }
-    if (gt == 0.0) return ft;               /* a minimum */
-    if (gt < 0.0) { lo = t; flo = ft; glo = gt; }
-    else          { hi = t; fhi = ft; ghi = gt; }
+    if (gt < 0.0) { lo = t; flo = ft; glo = gt; elo = et; }
+    else          { hi = t; fhi = ft; ghi = gt; ehi = et; }
+    double l = bracket_bound(lo, flo, glo, elo, hi, fhi, ghi, ehi);
+    lb = l > lb ? l : lb;                                   /* every bound holds: keep the best */
   }
-  double w = hi - lo;
-  return (ghi * flo - glo * fhi + glo * ghi * w) / (ghi - glo);
+  return lb;
 }
 
-/* distance of two segments (lower bound within TOL; exact but for rounding outside near-parallel
-   cases); *s, *t the closest points' parameters */
-RMT_INLINE double seg_seg(const wcap *c, const double *a2, const double *d2, double e, double ie, double thr,
-                          double *s_out, double *t_out)
+/* distance of two near-parallel segments, exact but for rounding where Ericson's 2×2 solve loses
+   digits: the least of (i) the distances of c's end points from segment 2 and (ii) over the points of
+   segment 2 whose projection falls on c's segment, their distance from c's line — measured in the plane
+   perpendicular to it, where segment 2 is a short segment and the distance is a 2-D point–segment one */
+static double seg_seg_parallel(const wcap *c, const double *a2, const double *d2, double ie, double *s_out,
+                               double *t_out)
+{
+  const double *a1 = c->a, *d1 = c->d;
+  double t, e1[3] = { a1[0] + d1[0], a1[1] + d1[1], a1[2] + d1[2] };
+  double best = seg_point(a2, d2, ie, a1, &t), s = 0.0;
+  double v = seg_point(a2, d2, ie, e1, t_out);
+  if (v < best) { best = v; s = 1.0; t = *t_out; }
+  double L = sqrt(c->dd), u[3] = { d1[0] / L, d1[1] / L, d1[2] / L };
+  double r[3] = { a2[0] - a1[0], a2[1] - a1[1], a2[2] - a1[2] };
+  double ru = dot3(r, u), du = dot3(d2, u);
+  double cp[3], dp[3];
+  for (int i = 0; i < 3; ++i) { cp[i] = r[i] - ru * u[i]; dp[i] = d2[i] - du * u[i]; }
+  double tlo = 0.0, thi = 1.0;                               /* where 0 <= ru + t du <= L */
+  if (du > 0.0) { double x = -ru / du, y = (L - ru) / du; tlo = x > tlo ? x : tlo; thi = y < thi ? y : thi; }
+  else if (du < 0.0) { double x = (L - ru) / du, y = -ru / du; tlo = x > tlo ? x : tlo; thi = y < thi ? y : thi; }
+  else if (ru < 0.0 || ru > L) thi = -1.0;
+  if (tlo <= thi) {
+    double pp = dot3(dp, dp), tp = pp > 0.0 ? -dot3(cp, dp) / pp : tlo;
+    tp = tp < tlo ? tlo : (tp > thi ? thi : tp);
+    double x[3] = { cp[0] + tp * dp[0], cp[1] + tp * dp[1], cp[2] + tp * dp[2] };
+    double w2 = dot3(x, x);
+    if (w2 < best) { best = w2; t = tp; s = clamp01((ru + tp * du) / L); }
+  }
+  *s_out = s;
+  *t_out = t;
+  return sqrt(best);
+}
+
+/* distance of two segments (exact but for rounding); *s, *t the closest points' parameters */
+RMT_INLINE double seg_seg(const wcap *c, const double *a2, const double *d2, double e, double ie, double *s_out,
+                          double *t_out)
 {
   const double *d1 = c->d;
   double r[3] = { c->a[0] - a2[0], c->a[1] - a2[1], c->a[2] - a2[2] };
   double a = c->dd, b = dot3(d1, d2), cc = dot3(d1, r), f = dot3(d2, r);
   double den = a * e - b * b;
-  if (den <= NEAR_PARALLEL * a * e && a > 0.0 && e > 0.0) {
-    /* near-parallel: min over s of the distance of c's point s from segment 2 (convex) */
-    double S[7] = { a2[0], a2[1], a2[2], d2[0], d2[1], d2[2], ie };
-    best_point bp;
-    double v = convex_min(SDF_SEGMENT, S, c->a, d1, thr, &bp);
-    double p[3] = { c->a[0] + bp.t * d1[0], c->a[1] + bp.t * d1[1], c->a[2] + bp.t * d1[2] };
-    seg_point(a2, d2, ie, p, t_out);
-    *s_out = bp.t;
-    return v;
-  }
-  double s = den > 0.0 ? clamp01((b * f - cc * e) / den) : 0.0;
+  if (den <= NEAR_PARALLEL * a * e && a > 0.0 && e > 0.0) return seg_seg_parallel(c, a2, d2, ie, s_out, t_out);
+  double s = den > 0.0 ? clamp01((b * f - cc * e) / den) : 0.0;   /* (den = 0: a ball) */
   double t = clamp01((b * s + f) * ie);
   s = clamp01((b * t - cc) * c->idd);
   double x = r[0] + s * d1[0] - t * d2[0], y = r[1] + s * d1[1] - t * d2[1], z = r[2] + s * d1[2] - t * d2[2];
@@ -398,7 +448,7 @@ static double cap_prim(const wcap *c, const double *P, long long kind, double th
     } else {
       double d2[3] = { P[7] - P[4], P[8] - P[5], P[9] - P[6] };
       double e = dot3(d2, d2);
-      v = seg_seg(c, P + 4, d2, e, e > 0.0 ? 1.0 / e : 0.0, thr + c->r + R, &s, &t) - c->r - R;
+      v = seg_seg(c, P + 4, d2, e, e > 0.0 ? 1.0 / e : 0.0, &s, &t) - c->r - R;
     }
     if (want && v < thr) {
       double p[3], o[3];
@@ -551,7 +601,7 @@ static void body_pair(const rmt_clear_model *m, const scratch *s, long long pr, 
       double rr = u->r + w->r;
       if (far_apart(dist2(u->m, w->m), u->rb + w->rb, thr)) continue;
       double sa, tb;
-      double v = seg_seg(u, w->a, w->d, w->dd, w->idd, thr + rr, &sa, &tb) - rr;
+      double v = seg_seg(u, w->a, w->d, w->dd, w->idd, &sa, &tb) - rr;
       if (!(v < thr)) continue;
       if (per_body) {
         if (v < k->bs[bi]) k->bs[bi] = v;

@@ -231,7 +231,7 @@ class _Flat:
         dh = np.zeros((n, 8))
         dh[:, 0], dh[:, 1], dh[:, 2], dh[:, 3], dh[:, 4], dh[:, 5] = (
             rows[:, 0], np.cos(rows[:, 1]), np.sin(rows[:, 1]), rows[:, 2], rows[:, 3], rows[:, 4])
-        dh[:, 6] = np.where(rows[:, 4] != 0, MAX_PRISMATIC, np.inf)
+        dh[:, 6] = np.where(rows[:, 4] != 0, MAX_PRISMATIC, np.finfo(float).max)    # (refuses inf too)
         self.dh = dh
         self.world_base = base
         self.base = _columns(base @ chain.base.matrix)

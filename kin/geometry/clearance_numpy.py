@@ -17,11 +17,11 @@ import numpy as np
 
 from kin.geometry.frames import body_frames
 
-__all__ = ["NumpyClearance", "convex_min", "seg_seg", "sdf_box", "sdf_cylinder", "sdf_segment"]
+__all__ = ["NumpyClearance", "convex_min", "seg_seg", "sdf_box", "sdf_cylinder"]
 
 TOL = 1e-7               # as clearance.c
 MAX_STEPS = 200
-NEAR_PARALLEL = 1e-8
+NEAR_PARALLEL = 1e-4
 BLOCK = 1024             # configurations per pass (memory: a few MB per pass)
 
 
@@ -46,9 +46,13 @@ def seg_point(a, d, idd, p) -> tuple[np.ndarray, np.ndarray]:
     return _dot(w, w), t
 
 
-# ---- signed distance functions: value f and unit (sub)gradient n at points p (M, 3) ----------------
-def sdf_box(h: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """A box of half sizes h (3,) centred on the origin."""
+# ---- signed distance functions: value f, unit (sub)gradient n and the gradient's rounding at p (M, 3) ----
+EPS = np.finfo(float).eps
+
+
+def sdf_box(h: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A box of half sizes h (3,) centred on the origin; ``cond`` as in clearance.c's sdf."""
+    size = np.abs(p).sum(axis=1) + h.sum()
     q = np.abs(p) - h
     o = np.maximum(q, 0.0)
     o2 = _dot(o, o)
@@ -59,11 +63,13 @@ def sdf_box(h: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     n = np.zeros_like(p)
     n[np.arange(len(q)), k] = 1.0
     n = np.where(out[:, None], o * _inv(r)[:, None], n)
-    return f, np.copysign(n, p)
+    cond = np.where(out, 8.0 * (1.0 + size * _inv(r)), 8.0)
+    return f, np.copysign(n, p), cond
 
 
-def sdf_cylinder(R: float, h: float, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def sdf_cylinder(R: float, h: float, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A cylinder of radius R about the z axis, z in [−h, h]."""
+    size = np.abs(p).sum(axis=1) + R + h
     rho = np.hypot(p[:, 0], p[:, 1])
     pos = rho > 0.0
     irho = _inv(rho)
@@ -79,49 +85,58 @@ def sdf_cylinder(R: float, h: float, p: np.ndarray) -> tuple[np.ndarray, np.ndar
     n[:, 0] = np.where(out, wr * ir * ux, np.where(radial, ux, 0.0))
     n[:, 1] = np.where(out, wr * ir * uy, np.where(radial, uy, 0.0))
     n[:, 2] = np.where(out, wz * ir * sz, np.where(radial, 0.0, sz))
-    return f, n
+    cond = np.where(out, 8.0 * (1.0 + size * ir),
+                    np.where(radial, 8.0 * (1.0 + np.where(pos, size * irho, np.inf)), 8.0))
+    return f, n, cond
 
 
-def sdf_segment(a: np.ndarray, d: np.ndarray, idd: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The distance from segments a .. a + d (one per point)."""
-    v2, t = seg_point(a, d, idd, p)
-    v = p - a - t[:, None] * d
-    r = np.sqrt(v2)
-    return r, v * _inv(r)[:, None]
+def bracket_bound(lo, flo, glo, elo, hi, fhi, ghi, ehi) -> np.ndarray:
+    """clearance.c's bracket_bound: a lower bound of min f on [0, 1] from two evaluations whose slopes
+    are known within e."""
+    s1, s2, w = glo - elo, ghi + ehi, hi - lo
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cross = (s2 * flo - s1 * fhi + s1 * s2 * w) / (s2 - s1)
+    lb = np.where(s1 >= 0.0, flo, np.where(s2 <= 0.0, fhi, cross))
+    left = flo - lo * np.maximum(glo + elo, 0.0)
+    right = fhi - (1.0 - hi) * np.maximum(ehi - ghi, 0.0)
+    return np.minimum(np.minimum(lb, left), right)
 
 
 def convex_min(sdf, P: np.ndarray, D: np.ndarray, thr: np.ndarray):
     """For each segment P + t·D (t in [0, 1]): a lower bound of the minimum of the convex function
-    ``sdf(points, items) -> (f, n)`` along it, within TOL of it unless the bound reaches ``thr`` — the
+    ``sdf(points) -> (f, n, cond)`` along it, within TOL of it unless the bound reaches ``thr`` — the
     method of clearance.c's convex_min, vectorised.  Returns (bound, t, f, n) of the best point seen."""
     M = len(P)
-    every = np.arange(M)
-    f0, n0 = sdf(P, every)
-    g0 = _dot(n0, D)
+    eps = EPS * np.sqrt(_dot(D, D))
+    f0, n0, c0 = sdf(P)
+    g0, e0 = _dot(n0, D), eps * c0
     tb, fb, nb = np.zeros(M), f0.copy(), n0.copy()
-    res = f0.copy()
+    res = np.where(g0 - e0 >= 0.0, f0, f0 + (g0 - e0))
     act = np.flatnonzero(g0 < 0.0)
     if not len(act):
         return res, tb, fb, nb
-    f1, n1 = sdf(P[act] + D[act], act)
-    g1 = _dot(n1, D[act])
+    f1, n1, c1 = sdf(P[act] + D[act])
+    g1, e1 = _dot(n1, D[act]), eps[act] * c1
     better = f1 < f0[act]
     tb[act[better]], fb[act[better]], nb[act[better]] = 1.0, f1[better], n1[better]
     at1 = g1 <= 0.0
-    res[act[at1]] = f1[at1]
+    lb1 = np.where(g1 + e1 <= 0.0, f1, f1 - (g1 + e1))
+    l0 = f0[act] + np.minimum(g0[act] - e0[act], 0.0)
+    res[act[at1]] = np.maximum(l0, lb1)[at1]
     keep = ~at1
     act = act[keep]
     lo, hi = np.zeros(len(act)), np.ones(len(act))
-    flo, glo, fhi, ghi = f0[act], g0[act], f1[keep], g1[keep]
+    flo, glo, elo, fhi, ghi, ehi = f0[act], g0[act], e0[act], f1[keep], g1[keep], e1[keep]
+    lb = bracket_bound(lo, flo, glo, elo, hi, fhi, ghi, ehi)
     for step in range(MAX_STEPS):
         if not len(act):
             break
         w, den = hi - lo, ghi - glo
-        lb = (ghi * flo - glo * fhi + glo * ghi * w) / den
         stop = (lb >= thr[act]) | (fb[act] - lb <= TOL) | ~(w > 1e-15)
         res[act[stop]] = lb[stop]
         go = ~stop
-        act, lo, hi, flo, glo, fhi, ghi, w, den = (x[go] for x in (act, lo, hi, flo, glo, fhi, ghi, w, den))
+        act, lo, hi, flo, glo, elo, fhi, ghi, ehi, w, den, lb = (
+            x[go] for x in (act, lo, hi, flo, glo, elo, fhi, ghi, ehi, w, den, lb))
         if not len(act):
             break
         if step & 1:
@@ -130,26 +145,54 @@ def convex_min(sdf, P: np.ndarray, D: np.ndarray, thr: np.ndarray):
             t = lo - glo * w / den
         margin = 0.02 * w
         t = np.minimum(np.maximum(t, lo + margin), hi - margin)
-        ft, nt = sdf(P[act] + t[:, None] * D[act], act)
-        gt = _dot(nt, D[act])
+        ft, nt, ct = sdf(P[act] + t[:, None] * D[act])
+        gt, et = _dot(nt, D[act]), eps[act] * ct
         better = ft < fb[act]
         tb[act[better]], fb[act[better]], nb[act[better]] = t[better], ft[better], nt[better]
-        zero = gt == 0.0
-        res[act[zero]] = ft[zero]
         left = gt < 0.0
-        lo, flo, glo = np.where(left, t, lo), np.where(left, ft, flo), np.where(left, gt, glo)
-        hi, fhi, ghi = np.where(left, hi, t), np.where(left, fhi, ft), np.where(left, ghi, gt)
-        go = ~zero
-        act, lo, hi, flo, glo, fhi, ghi = (x[go] for x in (act, lo, hi, flo, glo, fhi, ghi))
-    if len(act):
-        w = hi - lo
-        res[act] = (ghi * flo - glo * fhi + glo * ghi * w) / (ghi - glo)
+        lo, flo, glo, elo = (np.where(left, x, y) for x, y in ((t, lo), (ft, flo), (gt, glo), (et, elo)))
+        hi, fhi, ghi, ehi = (np.where(left, y, x) for x, y in ((t, hi), (ft, fhi), (gt, ghi), (et, ehi)))
+        lb = np.maximum(lb, bracket_bound(lo, flo, glo, elo, hi, fhi, ghi, ehi))
+    res[act] = lb
     return res, tb, fb, nb
 
 
-def seg_seg(a1, d1, a2, d2, thr) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Distance of segments a1 .. a1 + d1 and a2 .. a2 + d2 (M, 3 each; a lower bound within TOL,
-    exact but for rounding outside near-parallel pairs) and the closest points' parameters s, t."""
+def seg_seg_parallel(a1, d1, a2, d2) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """clearance.c's seg_seg_parallel: near-parallel segments measured across the first one's line."""
+    e2 = _dot(d2, d2)
+    ie = _inv(e2)
+    best, t = seg_point(a2, d2, ie, a1)
+    v, t1 = seg_point(a2, d2, ie, a1 + d1)
+    s = np.zeros(len(a1))
+    one = v < best
+    best, s, t = np.where(one, v, best), np.where(one, 1.0, s), np.where(one, t1, t)
+    L = np.sqrt(_dot(d1, d1))
+    u = d1 / L[:, None]
+    r = a2 - a1
+    ru, du = _dot(r, u), _dot(d2, u)
+    cp, dp = r - ru[:, None] * u, d2 - du[:, None] * u
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x, y = -ru / du, (L - ru) / du
+    tlo = np.where(du > 0, np.maximum(0.0, x), np.where(du < 0, np.maximum(0.0, y), 0.0))
+    thi = np.where(du > 0, np.minimum(1.0, y), np.where(du < 0, np.minimum(1.0, x),
+                                                        np.where((ru < 0) | (ru > L), -1.0, 1.0)))
+    pp = _dot(dp, dp)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tp = np.where(pp > 0, -_dot(cp, dp) / np.where(pp > 0, pp, 1.0), tlo)
+    tp = np.minimum(np.maximum(tp, tlo), thi)
+    xp = cp + tp[:, None] * dp
+    w2 = _dot(xp, xp)
+    take = (tlo <= thi) & (w2 < best)
+    best = np.where(take, w2, best)
+    t = np.where(take, tp, t)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(take, _clamp01((ru + tp * du) / L), s)
+    return np.sqrt(best), s, t
+
+
+def seg_seg(a1, d1, a2, d2) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Distance of segments a1 .. a1 + d1 and a2 .. a2 + d2 (M, 3 each; exact but for rounding) and the
+    closest points' parameters s, t."""
     r = a1 - a2
     a, e, b, c, f = _dot(d1, d1), _dot(d2, d2), _dot(d1, d2), _dot(d1, r), _dot(d2, r)
     den = a * e - b * b
@@ -162,10 +205,7 @@ def seg_seg(a1, d1, a2, d2, thr) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     dist = np.sqrt(_dot(w, w))
     near = np.flatnonzero((den <= NEAR_PARALLEL * a * e) & (a > 0.0) & (e > 0.0))
     if len(near):
-        A2, D2, IE = a2[near], d2[near], ie[near]
-        v, tb, _, _ = convex_min(lambda p, i: sdf_segment(A2[i], D2[i], IE[i], p), a1[near], d1[near], thr[near])
-        dist[near], s[near] = v, tb
-        _, t[near] = seg_point(A2, D2, IE, a1[near] + tb[:, None] * d1[near])
+        dist[near], s[near], t[near] = seg_seg_parallel(a1[near], d1[near], a2[near], d2[near])
     return dist, s, t
 
 
@@ -209,8 +249,7 @@ class NumpyClearance:
                 o = np.broadcast_to(P[4:7], A.shape)
             else:
                 d2v = P[7:10] - P[4:7]
-                dist, s, t = seg_seg(A, D, np.broadcast_to(P[4:7], A.shape), np.broadcast_to(d2v, A.shape),
-                                     thr + r + R)
+                dist, s, t = seg_seg(A, D, np.broadcast_to(P[4:7], A.shape), np.broadcast_to(d2v, A.shape))
                 v = dist - r - R
                 o = P[4:7] + t[:, None] * d2v
             if want:
@@ -224,10 +263,10 @@ class NumpyClearance:
             Dl = np.stack([_dot(D, X), _dot(D, Y), _dot(D, Z)], axis=1)
             if kind == 2:
                 h = P[4:7]
-                fn = lambda q, i: sdf_box(h, q)
+                fn = lambda q: sdf_box(h, q)
             else:
                 Rc, hc = P[4], P[5]
-                fn = lambda q, i: sdf_cylinder(Rc, hc, q)
+                fn = lambda q: sdf_cylinder(Rc, hc, q)
             lb, tb, fb, nb = convex_min(fn, Al, Dl, thr + r)
             v = lb - r
             if want:
@@ -347,9 +386,8 @@ class NumpyClearance:
             cj = np.arange(f.body_cap[bj], f.body_cap[bj + 1])
             for u in ci:
                 rr = r[u] + r[cj]
-                thr = np.full((N, len(cj)), np.inf) if mode == 2 else np.repeat(out["clearance"][:, None], len(cj), 1)
                 dist, s, t = seg_seg(np.repeat(A[:, u], len(cj), axis=0), np.repeat(D[:, u], len(cj), axis=0),
-                                     A[:, cj].reshape(-1, 3), D[:, cj].reshape(-1, 3), (thr + rr).reshape(-1))
+                                     A[:, cj].reshape(-1, 3), D[:, cj].reshape(-1, 3))
                 v = dist.reshape(N, len(cj)) - rr
                 pr = po = None
                 if want:
