@@ -167,7 +167,7 @@ def pose(rng, centre, spread=0.0) -> np.ndarray:
 
 def random_cell(seed: int, n_obstacles: int = 10, spheres: int = 0) -> list[Obstacle]:
     """Obstacles around a robot at the origin: a table under it (ignoring the base and body 1, which
-    stand on it), then random rotated
+    stand on it), then random rotated (centres 0.35 m or more from the robot's axis)
     boxes, cylinders, spheres and capsules within reach, and optionally a sphere set."""
     rng = np.random.default_rng(seed)
     table = np.eye(4)
@@ -177,6 +177,8 @@ def random_cell(seed: int, n_obstacles: int = 10, spheres: int = 0) -> list[Obst
     for i in range(n_obstacles - 1):
         kind = kinds[i % 4]
         c = rng.uniform((-0.7, -0.7, 0.0), (0.7, 0.7, 1.1))
+        while np.hypot(c[0], c[1]) < 0.35:               # not through the robot's column
+            c = rng.uniform((-0.7, -0.7, 0.0), (0.7, 0.7, 1.1))
         if kind == "box":
             size = tuple(rng.uniform(0.02, 0.25, 3))
         elif kind == "sphere":
