@@ -68,6 +68,8 @@ typedef struct {          /* what one configuration's pairs report to */
   long long code;         /* the candidate (see scratch.code) that gave best */
 } sink;
 
+typedef struct { double lb; long long node, cap; } qitem;   /* a capsule to walk a sphere set's tree with */
+
 typedef struct {          /* the scratch space of one thread */
   double *F;              /* nbody × 12 × LANES frames of a block of configurations (lane fastest) */
   double *cs;             /* n × 2 × LANES: cos, sin of each joint's angle */
@@ -79,6 +81,8 @@ typedef struct {          /* the scratch space of one thread */
   long long *code;        /* ... and what they are: b · nprim + p (obstacle), −1 − k (body pair k) */
   long long hint;         /* the candidate that gave the previous configuration's minimum (NO_HINT: none) */
   double *plb;            /* nbody × nprim4: the bodies' lower bounds against every primitive */
+  qitem *heap;            /* ncap: the capsules to walk a sphere set's tree with, by bound */
+  unsigned char *done;    /* nprim: the sets searched for this configuration */
 } scratch;
 
 #define NO_HINT (-(1LL << 62))
@@ -496,6 +500,12 @@ static double cap_set(const rmt_clear_model *m, long long root, const wcap *c, d
   double bound[STACK];
   int sp = 0;
   double best = thr;
+  double slo[3], shi[3];                                     /* the segment's box */
+  for (int i = 0; i < 3; ++i) {
+    double e = c->a[i] + c->d[i];
+    slo[i] = c->a[i] < e ? c->a[i] : e;
+    shi[i] = c->a[i] < e ? e : c->a[i];
+  }
   *hit = -1;
   stack[sp] = root; bound[sp] = -HUGE_VAL; ++sp;
   while (sp > 0) {
@@ -513,11 +523,20 @@ static double cap_set(const rmt_clear_model *m, long long root, const wcap *c, d
       }
       continue;
     }
+    /* each child: its box (when apart from the segment's, the spheres are at least that far) and its ball */
     double lb[2];
     for (int j = 0; j < 2; ++j) {
-      const double *N = m->node + 4 * L[j];
+      const double *N = m->node + RMT_NODE_STRIDE * L[j];
+      double g2 = 0.0;
+      for (int i = 0; i < 3; ++i) {
+        double gap = N[4 + i] - shi[i] > slo[i] - N[7 + i] ? N[4 + i] - shi[i] : slo[i] - N[7 + i];
+        if (gap > 0.0) g2 += gap * gap;
+      }
+      if (g2 > 0.0 && far_apart(g2, c->r, best)) { lb[j] = HUGE_VAL; continue; }
       double t, d2 = seg_point(c->a, c->d, c->idd, N, &t);
-      lb[j] = far_apart(d2, c->r + N[3], best) ? HUGE_VAL : sqrt(d2) - c->r - N[3];
+      if (far_apart(d2, c->r + N[3], best)) { lb[j] = HUGE_VAL; continue; }
+      double l1 = sqrt(d2) - c->r - N[3], l2 = g2 > 0.0 ? sqrt(g2) - c->r : -HUGE_VAL;
+      lb[j] = l1 > l2 ? l1 : l2;
     }
     int nearer = lb[1] < lb[0];
     if (lb[!nearer] < best) { stack[sp] = L[!nearer]; bound[sp] = lb[!nearer]; ++sp; }
@@ -557,7 +576,7 @@ static void body_bounds(const rmt_clear_model *m, const double *W, long long b, 
   }
 }
 
-/* capsules of body b against primitive p, reporting to k */
+/* capsules of body b against primitive p (not a sphere set: see set_search), reporting to k */
 static void body_prim(const rmt_clear_model *m, const scratch *s, long long b, long long p, sink *k)
 {
   const double *P = m->prim + RMT_PRIM_STRIDE * p;
@@ -567,24 +586,76 @@ static void body_prim(const rmt_clear_model *m, const scratch *s, long long b, l
     const wcap *w = s->Cl + c;
     double thr = k->mode == RMT_MODE_PER_BODY ? k->bo[b] : k->best;
     if (far_apart(dist2(w->m, P), w->rb + P[3], thr)) continue;
-    double v;
-    if (kind == RMT_PRIM_SET) {
-      long long hit;
-      v = cap_set(m, m->prim_int[4 * p + 2], w, thr, &hit);
-      if (want && hit >= 0) {
-        const double *S = m->sphere + 4 * hit;
-        double t, q[3];
-        seg_point(w->a, w->d, w->idd, S, &t);
-        for (int i = 0; i < 3; ++i) q[i] = w->a[i] + t * w->d[i];
-        witness(k, q, S, w->r, S[3]);
-      }
-    } else {
-      v = cap_prim(w, P, kind, thr, want, k);
-    }
+    double v = cap_prim(w, P, kind, thr, want, k);
     if (v < thr) {
       if (k->mode == RMT_MODE_PER_BODY) k->bo[b] = v;
       else { k->best = v; k->body = b; k->other = m->prim_int[4 * p + 1]; k->code = b * m->nprim + p; }
     }
+  }
+}
+
+/* ---- sphere sets ---------------------------------------------------------------------------------------- */
+/* report sphere i of primitive p at clearance v from capsule c */
+static void set_hit(const rmt_clear_model *m, const scratch *s, long long p, long long c, long long i, double v,
+                    sink *k)
+{
+  const wcap *w = s->Cl + c;
+  if (k->mode == RMT_MODE_PER_BODY) { k->bo[w->body] = v; return; }
+  k->best = v; k->body = w->body; k->other = m->prim_int[4 * p + 1]; k->code = w->body * m->nprim + p;
+  if (k->mode == RMT_MODE_NEAREST) {
+    const double *S = m->sphere + 4 * i;
+    double t, q[3];
+    seg_point(w->a, w->d, w->idd, S, &t);
+    for (int j = 0; j < 3; ++j) q[j] = w->a[j] + t * w->d[j];
+    witness(k, q, S, w->r, S[3]);
+  }
+}
+
+/* a lower bound of capsule w's clearance against anything under node N (its box, where apart from the
+   segment's box, and its ball), or HUGE_VAL when that cannot come below thr */
+RMT_INLINE double node_bound(const wcap *w, const double *N, double thr)
+{
+  double g2 = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    double e = w->a[i] + w->d[i], lo = w->a[i] < e ? w->a[i] : e, hi = w->a[i] < e ? e : w->a[i];
+    double gap = N[4 + i] - hi > lo - N[7 + i] ? N[4 + i] - hi : lo - N[7 + i];
+    if (gap > 0.0) g2 += gap * gap;
+  }
+  if (g2 > 0.0 && far_apart(g2, w->r, thr)) return HUGE_VAL;
+  double t, d2 = seg_point(w->a, w->d, w->idd, N, &t);
+  if (far_apart(d2, w->r + N[3], thr)) return HUGE_VAL;
+  double l1 = sqrt(d2) - w->r - N[3], l2 = g2 > 0.0 ? sqrt(g2) - w->r : -HUGE_VAL;
+  return l1 > l2 ? l1 : l2;
+}
+
+/* every capsule against sphere set p at once: the capsules in the order of their bounds against the root
+   (the nearest sets a tight minimum for the others), each walked depth-first (cap_set) */
+static void set_search(const rmt_clear_model *m, scratch *s, long long p, sink *k)
+{
+  const double *P = m->prim + RMT_PRIM_STRIDE * p;
+  long long root = m->prim_int[4 * p + 2], mask = m->prim_int[4 * p + 3], n = 0;
+  const double *R = m->node + RMT_NODE_STRIDE * root;
+  qitem *h = s->heap;
+  for (long long b = 0; b <= m->last; ++b) {
+    if (m->body_cap[b] == m->body_cap[b + 1] || ((mask >> b) & 1)) continue;
+    const double *W = s->Wl + 4 * b;
+    double thr = k->mode == RMT_MODE_PER_BODY ? k->bo[b] : k->best;
+    if (far_apart(dist2(W, P), W[3] + P[3], thr)) continue;
+    for (long long c = m->body_cap[b]; c < m->body_cap[b + 1]; ++c) {
+      double lb = node_bound(s->Cl + c, R, thr);
+      if (!(lb < thr)) continue;
+      long long i = n++;                                   /* insertion by bound */
+      while (i > 0 && h[i - 1].lb > lb) { h[i] = h[i - 1]; --i; }
+      h[i] = (qitem){ lb, root, c };
+    }
+  }
+  for (long long i = 0; i < n; ++i) {
+    const wcap *w = s->Cl + h[i].cap;
+    double thr = k->mode == RMT_MODE_PER_BODY ? k->bo[w->body] : k->best;
+    if (!(h[i].lb < thr)) continue;
+    long long hit;
+    double v = cap_set(m, root, w, thr, &hit);
+    if (hit >= 0) set_hit(m, s, p, h[i].cap, hit, v, k);
   }
 }
 
@@ -623,10 +694,12 @@ RMT_INLINE int ignores(const rmt_clear_model *m, long long p, long long b)
   return (int)((m->prim_int[4 * p + 3] >> b) & 1);
 }
 
-RMT_INLINE void candidate(const rmt_clear_model *m, const scratch *s, long long code, sink *k)
+RMT_INLINE void candidate(const rmt_clear_model *m, scratch *s, long long code, sink *k)
 {
-  if (code >= 0) body_prim(m, s, code / m->nprim, code % m->nprim, k);
-  else body_pair(m, s, -1 - code, k);
+  if (code < 0) { body_pair(m, s, -1 - code, k); return; }
+  long long p = code % m->nprim;
+  if (m->prim_int[4 * p] != RMT_PRIM_SET) { body_prim(m, s, code / m->nprim, p, k); return; }
+  if (!s->done[p]) { s->done[p] = 1; set_search(m, s, p, k); }   /* every body at once */
 }
 
 /* every pair of one configuration (the capsules placed in s) */
@@ -639,12 +712,16 @@ static void pairs(const rmt_clear_model *m, scratch *s, sink *k)
     for (long long b = 0; b <= m->last; ++b) {
       if (m->body_cap[b] == m->body_cap[b + 1] || nprim == 0) continue;
       body_bounds(m, s->Wl + 4 * b, b, plb);
-      long long first = 0;
-      for (long long p = 1; p < nprim; ++p) if (plb[p] < plb[first]) first = p;
+      long long first = -1;
+      for (long long p = 0; p < nprim; ++p)
+        if (m->prim_int[4 * p] != RMT_PRIM_SET && (first < 0 || plb[p] < plb[first])) first = p;
+      if (first < 0) continue;
       if (plb[first] < k->bo[b]) body_prim(m, s, b, first, k);
       for (long long p = 0; p < nprim; ++p)
-        if (p != first && plb[p] < k->bo[b]) body_prim(m, s, b, p, k);
+        if (p != first && plb[p] < k->bo[b] && m->prim_int[4 * p] != RMT_PRIM_SET) body_prim(m, s, b, p, k);
     }
+    for (long long p = 0; p < nprim; ++p)
+      if (m->prim_int[4 * p] == RMT_PRIM_SET) set_search(m, s, p, k);
     for (long long pr = 0; pr < m->npair; ++pr) {
       long long bi = m->pair[2 * pr], bj = m->pair[2 * pr + 1];
       double thr = k->bs[bi] > k->bs[bj] ? k->bs[bi] : k->bs[bj];
@@ -657,6 +734,7 @@ static void pairs(const rmt_clear_model *m, scratch *s, sink *k)
      configurations come in order), then the candidates whose bounds come below the minimum so far,
      the lowest bound first */
   long long hint = s->hint;
+  if (m->nset > 0) memset(s->done, 0, (size_t)nprim);
   if (hint != NO_HINT) candidate(m, s, hint, k);
   double lo = HUGE_VAL;
   long long first = -1, P4 = m->nprim4;
@@ -694,16 +772,18 @@ static void scratch_layout(const rmt_clear_model *m, double *buf, scratch *s)
   s->W = s->cs + 2 * LANES * (m->n > 0 ? m->n : 1);
   s->plb = s->W + 4 * LANES * m->nbody;
   s->C = (wcap *)(s->plb + m->nbody * m->nprim4);
-  s->lb = (double *)(s->C + LANES * m->ncap);
+  s->heap = (qitem *)(s->C + LANES * m->ncap);
+  s->lb = (double *)(s->heap + m->ncap);
   s->code = (long long *)(s->lb + m->nbody * m->nprim + m->npair);
+  s->done = (unsigned char *)(s->code + m->nbody * m->nprim + m->npair);
   s->hint = NO_HINT;
 }
 
 static size_t scratch_size(const rmt_clear_model *m)
 {
   return sizeof(double) * (size_t)(16 * LANES * m->nbody + 2 * LANES * (m->n > 0 ? m->n : 1) + m->nbody * m->nprim4)
-       + sizeof(wcap) * (size_t)(LANES * m->ncap)
-       + (sizeof(double) + sizeof(long long)) * (size_t)(m->nbody * m->nprim + m->npair);
+       + sizeof(wcap) * (size_t)(LANES * m->ncap) + sizeof(qitem) * (size_t)m->ncap
+       + (sizeof(double) + sizeof(long long)) * (size_t)(m->nbody * m->nprim + m->npair) + (size_t)m->nprim;
 }
 /* ---- entry points ------------------------------------------------------------------------------- */
 typedef struct {

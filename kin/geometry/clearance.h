@@ -14,6 +14,7 @@
 #define RMT_PRIM_STRIDE 32    /* doubles per primitive; prim[0..3]: bounding sphere (centre, radius) */
 #define RMT_PRIM_AABB 24      /* prim[24..29]: a box holding it, axis-aligned in the world (centre, half sizes) */
 #define RMT_CAP_STRIDE 12     /* doubles per capsule */
+#define RMT_NODE_STRIDE 10    /* doubles per BVH node: ball (centre, radius), box (low corner, high corner) */
 
 /* output modes of rmt_clearance */
 #define RMT_MODE_MIN 0        /* the minimum per configuration */
@@ -27,6 +28,7 @@ typedef struct {
   long long last;             /* the highest body holding a capsule: frames beyond it are not computed */
   long long ncap, nprim, npair, nnode, nsphere;
   long long nprim4;           /* nprim rounded up to a multiple of 4 (the SoA arrays' length) */
+  long long nset;             /* primitives that are sphere sets */
   const double *dh;           /* n × 8: a, cos α, sin α, d, θ, prismatic (0/1), largest |q| (C checks
                                  one configuration against it), 0 */
   const double *base;         /* 12: frame 0 in the world */
@@ -42,7 +44,8 @@ typedef struct {
                                  sizes x, y, z (a copy of prim[0..3], prim[24..29] for SIMD) */
   const long long *prim_ignore;  /* nprim4: ignored bodies (bit mask; all bits set past nprim) */
   const long long *pair;      /* npair × 2: body pairs (i < j) checked against each other */
-  const double *node;         /* nnode × 4: BVH nodes' balls (centre, radius), each holding its spheres */
+  const double *node;         /* nnode × RMT_NODE_STRIDE: BVH nodes' balls (centre, radius) and boxes
+                                 (axis-aligned: low, high corners), each holding the node's spheres */
   const long long *link;      /* nnode × 2: (left, right) children, or (first sphere, −count) for a leaf */
   const double *sphere;       /* nsphere × 4: x, y, z, radius, in leaf order */
 } rmt_clear_model;

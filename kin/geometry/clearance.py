@@ -60,6 +60,7 @@ SET_KIND = 4
 PRIM_STRIDE = 32
 PRIM_AABB = 24
 CAP_STRIDE = 12
+NODE_STRIDE = 10
 MODE_MIN, MODE_NEAREST, MODE_PER_BODY = 0, 1, 2
 
 
@@ -80,7 +81,8 @@ class _Model(ctypes.Structure):
     """``rmt_clear_model`` of clearance.h, field by field."""
 
     _fields_ = [(name, ctypes.c_longlong) for name in
-                ("n", "modified", "nbody", "last", "ncap", "nprim", "npair", "nnode", "nsphere", "nprim4")] + \
+                ("n", "modified", "nbody", "last", "ncap", "nprim", "npair", "nnode", "nsphere", "nprim4",
+                 "nset")] + \
                [(name, ctypes.c_void_p) for name in
                 ("dh", "base", "tool", "cap", "body_cap", "body_sphere", "prim_int", "prim", "prim_soa",
                  "prim_ignore", "pair", "node", "link", "sphere")]
@@ -139,10 +141,11 @@ def _segments(starts: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndar
 
 def sphere_tree(spheres, leaf: int = LEAF) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """A balanced bounding-sphere hierarchy of spheres (K, 4), built level by level in numpy: each node's
-    range is sorted along its widest axis and split at its middle.  Returns ``node`` (M, 4) balls (centre,
-    radius + :data:`MARGIN`: each holds every sphere below it), ``link`` (M, 2) children (left, right) or
-    (first sphere, −count) for a leaf, the spheres (K, 4) in leaf order, and ``rep`` (M,) one sphere of
-    each node (the one nearest its centre: an upper bound for the numpy walk).  Node 0 is the root."""
+    range is sorted along its widest axis and split at its middle.  Returns ``node`` (M, 10): a ball
+    (centre, radius) and a box (low and high corners) per node, each holding every sphere below it (plus
+    :data:`MARGIN`); ``link`` (M, 2): children (left, right), or (first sphere, −count) for a leaf; the
+    spheres (K, 4) in leaf order; ``rep`` (M,): one sphere of each node (the one nearest its centre: an
+    upper bound for the numpy walk).  Node 0 is the root; children come after their parents."""
     S = np.ascontiguousarray(spheres, dtype=float).reshape(-1, 4)
     K = len(S)
     perm = np.arange(K)
@@ -171,7 +174,7 @@ def sphere_tree(spheres, leaf: int = LEAF) -> tuple[np.ndarray, np.ndarray, np.n
     sizes = [len(st) for st, _ in levels]
     first = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
     M = int(first[-1])
-    node = np.empty((M, 4))
+    node = np.empty((M, NODE_STRIDE))
     link = np.empty((M, 2), np.int64)
     rep = np.empty(M, np.int64)
     for L, (st, en) in enumerate(levels):
@@ -185,6 +188,7 @@ def sphere_tree(spheres, leaf: int = LEAF) -> tuple[np.ndarray, np.ndarray, np.n
         gap = np.linalg.norm(C - np.repeat(centre, counts, axis=0), axis=1)
         node[ids, :3] = centre
         node[ids, 3] = np.maximum.reduceat(gap + R, off) * (1 + 1e-12) + MARGIN
+        node[ids, 4:7], node[ids, 7:10] = lo - MARGIN, hi + MARGIN
         # the sphere nearest the centre: the first where the gap is its range's minimum
         gmin = np.repeat(np.minimum.reduceat(gap, off), counts)
         at = np.flatnonzero(gap == gmin)
@@ -299,7 +303,7 @@ class _Flat:
                 link[internal] += n_nodes
                 link[~internal, 0] += n_spheres
                 row = np.zeros(PRIM_STRIDE)
-                row[:4] = node[0]
+                row[:4] = node[0, :4]
                 lo, hi = (S[:, :3] - S[:, 3:]).min(axis=0), (S[:, :3] + S[:, 3:]).max(axis=0)
                 row[PRIM_AABB:PRIM_AABB + 3] = 0.5 * (lo + hi)
                 row[PRIM_AABB + 3:PRIM_AABB + 6] = 0.5 * (hi - lo) + MARGIN
@@ -320,7 +324,7 @@ class _Flat:
         self.prim_soa[4:, :P] = self.prim[:, PRIM_AABB:PRIM_AABB + 6].T
         self.prim_ignore = np.full(self.nprim4, -1, np.int64)
         self.prim_ignore[:P] = self.prim_int[:, 3]
-        self.node = np.concatenate(nodes) if nodes else np.zeros((0, 4))
+        self.node = np.concatenate(nodes) if nodes else np.zeros((0, NODE_STRIDE))
         self.link = np.concatenate(links) if links else np.zeros((0, 2), np.int64)
         self.sphere = np.concatenate(spheres) if spheres else np.zeros((0, 4))
         self.rep = np.concatenate(reps) if reps else np.zeros(0, np.int64)
@@ -333,7 +337,7 @@ class _Flat:
         arrays = {k: (a if a.size else np.zeros(1, a.dtype)) for k, a in arrays.items()}
         self._keep = arrays
         m = _Model(self.n, int(self.modified), self.nbody, self.last, len(self.cap), len(self.prim), len(self.pair),
-                   len(self.node), len(self.sphere), self.nprim4)
+                   len(self.node), len(self.sphere), self.nprim4, int((self.prim_int[:, 0] == SET_KIND).sum()))
         for k, a in arrays.items():
             setattr(m, k, a.ctypes.data)
         return m
