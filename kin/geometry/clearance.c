@@ -104,6 +104,16 @@ RMT_INLINE double dist2(const double *a, const double *b)
   return x * x + y * y + z * z;
 }
 
+/* the squared gap between [min(a, a + d), max(a, a + d)] and [−h, h] (0 where they overlap).  Small
+   three-component loops are written out as here: GCC vectorises a loop of three as two lanes and one,
+   through the stack, and the store-to-load stalls cost more than the arithmetic */
+RMT_INLINE double gap2(double a, double d, double h)
+{
+  double e = a + d, lo = a < e ? a : e, hi = a < e ? e : a;
+  double g = lo - h > -h - hi ? lo - h : -h - hi;
+  return g > 0.0 ? g * g : 0.0;
+}
+
 /* ---- frames ---------------------------------------------------------------------------------- */
 /* sin and cos of LANES angles, vectorised: reduction by pi/2 in three parts (Cody & Waite, fdlibm's
    constants: exact enough for |x| <= SINCOS_FAST), Cephes' polynomials on [-pi/4, pi/4] (about 1 ulp);
@@ -273,15 +283,12 @@ RMT_INLINE double sdf(int kind, const double *S, const double *p, double *n, dou
 {
   double size = fabs(p[0]) + fabs(p[1]) + fabs(p[2]) + S[0] + S[1] + (kind == SDF_BOX ? S[2] : 0.0);
   if (kind == SDF_BOX) {  /* S: half sizes */
-    double q[3], o[3], o2 = 0.0;
-    for (int i = 0; i < 3; ++i) {
-      q[i] = fabs(p[i]) - S[i];
-      o[i] = q[i] > 0.0 ? q[i] : 0.0;
-      o2 += o[i] * o[i];
-    }
+    double q[3] = { fabs(p[0]) - S[0], fabs(p[1]) - S[1], fabs(p[2]) - S[2] };
+    double o[3] = { q[0] > 0.0 ? q[0] : 0.0, q[1] > 0.0 ? q[1] : 0.0, q[2] > 0.0 ? q[2] : 0.0 };
+    double o2 = o[0] * o[0] + o[1] * o[1] + o[2] * o[2];
     if (o2 > 0.0) {
       double r = sqrt(o2), ir = 1.0 / r;
-      for (int i = 0; i < 3; ++i) n[i] = copysign(o[i] * ir, p[i]);
+      n[0] = copysign(o[0] * ir, p[0]); n[1] = copysign(o[1] * ir, p[1]); n[2] = copysign(o[2] * ir, p[2]);
       *cond = 8.0 * (1.0 + size * ir);
       return r;
     }
@@ -344,7 +351,7 @@ RMT_INLINE double convex_min(int kind, const double *S, const double *P, const d
   double g0 = dot3(n, D), e0 = eps * c;
   bp->t = 0.0; bp->f = f0; bp->n[0] = n[0]; bp->n[1] = n[1]; bp->n[2] = n[2];
   if (g0 >= 0.0) return g0 - e0 >= 0.0 ? f0 : f0 + (g0 - e0);   /* the minimum is at t = 0 */
-  for (int i = 0; i < 3; ++i) p[i] = P[i] + D[i];
+  p[0] = P[0] + D[0]; p[1] = P[1] + D[1]; p[2] = P[2] + D[2];
   double f1 = sdf(kind, S, p, n, &c);
   double g1 = dot3(n, D), e1 = eps * c;
   if (f1 < f0) { bp->t = 1.0; bp->f = f1; bp->n[0] = n[0]; bp->n[1] = n[1]; bp->n[2] = n[2]; }
@@ -363,7 +370,7 @@ RMT_INLINE double convex_min(int kind, const double *S, const double *P, const d
     double margin = 0.02 * w;
     if (t < lo + margin) t = lo + margin;
     if (t > hi - margin) t = hi - margin;
-    for (int i = 0; i < 3; ++i) p[i] = P[i] + t * D[i];
+    p[0] = P[0] + t * D[0]; p[1] = P[1] + t * D[1]; p[2] = P[2] + t * D[2];
     double ft = sdf(kind, S, p, n, &c);
     double gt = dot3(n, D), et = eps * c;
     if (ft < bp->f) { bp->t = t; bp->f = ft; bp->n[0] = n[0]; bp->n[1] = n[1]; bp->n[2] = n[2]; }
@@ -469,13 +476,8 @@ static double cap_prim(const wcap *c, const double *P, long long kind, double th
   double D[3] = { dot3(X, c->d), dot3(Y, c->d), dot3(Z, c->d) };
   /* first the distance between the segment's box and the solid's (its own, or the cylinder's): a
      lower bound, exact when the segment lies over one face */
-  double h[3] = { P[4], kind == RMT_PRIM_BOX ? P[5] : P[4], kind == RMT_PRIM_BOX ? P[6] : P[5] };
-  double g2 = 0.0;
-  for (int i = 0; i < 3; ++i) {
-    double e = A[i] + D[i], lo = A[i] < e ? A[i] : e, hi = A[i] < e ? e : A[i];
-    double gap = lo - h[i] > -h[i] - hi ? lo - h[i] : -h[i] - hi;
-    if (gap > 0.0) g2 += gap * gap;
-  }
+  int box = kind == RMT_PRIM_BOX;
+  double g2 = gap2(A[0], D[0], P[4]) + gap2(A[1], D[1], box ? P[5] : P[4]) + gap2(A[2], D[2], box ? P[6] : P[5]);
   if (g2 > 0.0 && far_apart(g2, c->r, thr)) return thr;     /* (g2 = 0 bounds nothing below -r) */
   best_point bp;
   double v = convex_min(kind == RMT_PRIM_BOX ? SDF_BOX : SDF_CYLINDER, P + 4, A, D, thr + c->r, &bp) - c->r;
@@ -492,6 +494,19 @@ static double cap_prim(const wcap *c, const double *P, long long kind, double th
   return v;
 }
 
+/* a lower bound of capsule w's clearance against anything under node N (its box, where apart from the
+   segment's box, and its ball), or HUGE_VAL when that cannot come below thr */
+RMT_INLINE double node_bound(const wcap *w, const double *N, double thr)
+{
+  double g2 = gap2(w->a[0] - N[4], w->d[0], N[7]) + gap2(w->a[1] - N[5], w->d[1], N[8])
+            + gap2(w->a[2] - N[6], w->d[2], N[9]);
+  if (g2 > 0.0 && far_apart(g2, w->r, thr)) return HUGE_VAL;
+  double t, d2 = seg_point(w->a, w->d, w->idd, N, &t);
+  if (far_apart(d2, w->r + N[3], thr)) return HUGE_VAL;
+  double l1 = sqrt(d2) - w->r - N[3], l2 = g2 > 0.0 ? sqrt(g2) - w->r : -HUGE_VAL;
+  return l1 > l2 ? l1 : l2;
+}
+
 /* the clearance of capsule c against the sphere set under node root when below thr (else thr);
    *hit the sphere (−1: none below thr) */
 static double cap_set(const rmt_clear_model *m, long long root, const wcap *c, double thr, long long *hit)
@@ -500,12 +515,6 @@ static double cap_set(const rmt_clear_model *m, long long root, const wcap *c, d
   double bound[STACK];
   int sp = 0;
   double best = thr;
-  double slo[3], shi[3];                                     /* the segment's box */
-  for (int i = 0; i < 3; ++i) {
-    double e = c->a[i] + c->d[i];
-    slo[i] = c->a[i] < e ? c->a[i] : e;
-    shi[i] = c->a[i] < e ? e : c->a[i];
-  }
   *hit = -1;
   stack[sp] = root; bound[sp] = -HUGE_VAL; ++sp;
   while (sp > 0) {
@@ -523,24 +532,12 @@ static double cap_set(const rmt_clear_model *m, long long root, const wcap *c, d
       }
       continue;
     }
-    /* each child: its box (when apart from the segment's, the spheres are at least that far) and its ball */
-    double lb[2];
-    for (int j = 0; j < 2; ++j) {
-      const double *N = m->node + RMT_NODE_STRIDE * L[j];
-      double g2 = 0.0;
-      for (int i = 0; i < 3; ++i) {
-        double gap = N[4 + i] - shi[i] > slo[i] - N[7 + i] ? N[4 + i] - shi[i] : slo[i] - N[7 + i];
-        if (gap > 0.0) g2 += gap * gap;
-      }
-      if (g2 > 0.0 && far_apart(g2, c->r, best)) { lb[j] = HUGE_VAL; continue; }
-      double t, d2 = seg_point(c->a, c->d, c->idd, N, &t);
-      if (far_apart(d2, c->r + N[3], best)) { lb[j] = HUGE_VAL; continue; }
-      double l1 = sqrt(d2) - c->r - N[3], l2 = g2 > 0.0 ? sqrt(g2) - c->r : -HUGE_VAL;
-      lb[j] = l1 > l2 ? l1 : l2;
-    }
-    int nearer = lb[1] < lb[0];
-    if (lb[!nearer] < best) { stack[sp] = L[!nearer]; bound[sp] = lb[!nearer]; ++sp; }
-    if (lb[nearer] < best) { stack[sp] = L[nearer]; bound[sp] = lb[nearer]; ++sp; }
+    double lb0 = node_bound(c, m->node + RMT_NODE_STRIDE * L[0], best);
+    double lb1 = node_bound(c, m->node + RMT_NODE_STRIDE * L[1], best);
+    int nearer = lb1 < lb0;
+    double lbn = nearer ? lb1 : lb0, lbf = nearer ? lb0 : lb1;
+    if (lbf < best) { stack[sp] = L[!nearer]; bound[sp] = lbf; ++sp; }
+    if (lbn < best) { stack[sp] = L[nearer]; bound[sp] = lbn; ++sp; }
   }
   return best;
 }
@@ -611,22 +608,6 @@ static void set_hit(const rmt_clear_model *m, const scratch *s, long long p, lon
   }
 }
 
-/* a lower bound of capsule w's clearance against anything under node N (its box, where apart from the
-   segment's box, and its ball), or HUGE_VAL when that cannot come below thr */
-RMT_INLINE double node_bound(const wcap *w, const double *N, double thr)
-{
-  double g2 = 0.0;
-  for (int i = 0; i < 3; ++i) {
-    double e = w->a[i] + w->d[i], lo = w->a[i] < e ? w->a[i] : e, hi = w->a[i] < e ? e : w->a[i];
-    double gap = N[4 + i] - hi > lo - N[7 + i] ? N[4 + i] - hi : lo - N[7 + i];
-    if (gap > 0.0) g2 += gap * gap;
-  }
-  if (g2 > 0.0 && far_apart(g2, w->r, thr)) return HUGE_VAL;
-  double t, d2 = seg_point(w->a, w->d, w->idd, N, &t);
-  if (far_apart(d2, w->r + N[3], thr)) return HUGE_VAL;
-  double l1 = sqrt(d2) - w->r - N[3], l2 = g2 > 0.0 ? sqrt(g2) - w->r : -HUGE_VAL;
-  return l1 > l2 ? l1 : l2;
-}
 
 /* every capsule against sphere set p at once: the capsules in the order of their bounds against the root
    (the nearest sets a tight minimum for the others), each walked depth-first (cap_set) */

@@ -14,7 +14,7 @@
 #define RMT_PRIM_STRIDE 32    /* doubles per primitive; prim[0..3]: bounding sphere (centre, radius) */
 #define RMT_PRIM_AABB 24      /* prim[24..29]: a box holding it, axis-aligned in the world (centre, half sizes) */
 #define RMT_CAP_STRIDE 12     /* doubles per capsule */
-#define RMT_NODE_STRIDE 10    /* doubles per BVH node: ball (centre, radius), box (low corner, high corner) */
+#define RMT_NODE_STRIDE 10    /* doubles per BVH node: ball (centre, radius), box (centre, half sizes) */
 
 /* output modes of rmt_clearance */
 #define RMT_MODE_MIN 0        /* the minimum per configuration */
@@ -45,7 +45,7 @@ typedef struct {
   const long long *prim_ignore;  /* nprim4: ignored bodies (bit mask; all bits set past nprim) */
   const long long *pair;      /* npair × 2: body pairs (i < j) checked against each other */
   const double *node;         /* nnode × RMT_NODE_STRIDE: BVH nodes' balls (centre, radius) and boxes
-                                 (axis-aligned: low, high corners), each holding the node's spheres */
+                                 (axis-aligned: centre, half sizes), each holding the node's spheres */
   const long long *link;      /* nnode × 2: (left, right) children, or (first sphere, −count) for a leaf */
   const double *sphere;       /* nsphere × 4: x, y, z, radius, in leaf order */
 } rmt_clear_model;

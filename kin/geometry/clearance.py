@@ -142,7 +142,7 @@ def _segments(starts: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndar
 def sphere_tree(spheres, leaf: int = LEAF) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """A balanced bounding-sphere hierarchy of spheres (K, 4), built level by level in numpy: each node's
     range is sorted along its widest axis and split at its middle.  Returns ``node`` (M, 10): a ball
-    (centre, radius) and a box (low and high corners) per node, each holding every sphere below it (plus
+    (centre, radius) and a box (centre, half sizes) per node, each holding every sphere below it (plus
     :data:`MARGIN`); ``link`` (M, 2): children (left, right), or (first sphere, −count) for a leaf; the
     spheres (K, 4) in leaf order; ``rep`` (M,): one sphere of each node (the one nearest its centre: an
     upper bound for the numpy walk).  Node 0 is the root; children come after their parents."""
@@ -188,7 +188,7 @@ def sphere_tree(spheres, leaf: int = LEAF) -> tuple[np.ndarray, np.ndarray, np.n
         gap = np.linalg.norm(C - np.repeat(centre, counts, axis=0), axis=1)
         node[ids, :3] = centre
         node[ids, 3] = np.maximum.reduceat(gap + R, off) * (1 + 1e-12) + MARGIN
-        node[ids, 4:7], node[ids, 7:10] = lo - MARGIN, hi + MARGIN
+        node[ids, 4:7], node[ids, 7:10] = centre, 0.5 * (hi - lo) + MARGIN
         # the sphere nearest the centre: the first where the gap is its range's minimum
         gmin = np.repeat(np.minimum.reduceat(gap, off), counts)
         at = np.flatnonzero(gap == gmin)
