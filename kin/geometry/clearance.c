@@ -80,6 +80,7 @@ typedef struct {          /* the scratch space of one thread */
   double *lb;             /* candidates: lower bounds */
   long long *code;        /* ... and what they are: b · nprim + p (obstacle), −1 − k (body pair k) */
   long long hint;         /* the candidate that gave the previous configuration's minimum (NO_HINT: none) */
+  int hint_kept;          /* ... and the one before's too (random configurations: rarely) */
   double *plb;            /* nbody × nprim4: the bodies' lower bounds against every primitive */
   qitem *heap;            /* ncap: the capsules to walk a sphere set's tree with, by bound */
   unsigned char *done;    /* nprim: the sets searched for this configuration */
@@ -711,10 +712,10 @@ static void pairs(const rmt_clear_model *m, scratch *s, sink *k)
     }
     return;
   }
-  /* the minimum: first the candidate that gave the previous configuration's (a tight start when
-     configurations come in order), then the candidates whose bounds come below the minimum so far,
-     the lowest bound first */
-  long long hint = s->hint;
+  /* the minimum: first the candidate that gave the previous configuration's when it also gave the one
+     before (configurations that come in order, along a motion: a tight start), then the candidates whose
+     bounds come below the minimum so far, the lowest bound first */
+  long long hint = s->hint_kept ? s->hint : NO_HINT;
   if (m->nset > 0) memset(s->done, 0, (size_t)nprim);
   if (hint != NO_HINT) candidate(m, s, hint, k);
   double lo = HUGE_VAL;
@@ -743,6 +744,7 @@ static void pairs(const rmt_clear_model *m, scratch *s, sink *k)
   if (first >= 0) candidate(m, s, s->code[first], k);
   for (long long i = 0; i < ncand; ++i)
     if (i != first && s->lb[i] < k->best) candidate(m, s, s->code[i], k);
+  s->hint_kept = k->code == s->hint && k->code != NO_HINT;
   s->hint = k->code;
 }
 
@@ -758,6 +760,7 @@ static void scratch_layout(const rmt_clear_model *m, double *buf, scratch *s)
   s->code = (long long *)(s->lb + m->nbody * m->nprim + m->npair);
   s->done = (unsigned char *)(s->code + m->nbody * m->nprim + m->npair);
   s->hint = NO_HINT;
+  s->hint_kept = 0;
 }
 
 static size_t scratch_size(const rmt_clear_model *m)
