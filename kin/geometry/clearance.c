@@ -65,7 +65,7 @@ typedef struct {          /* what one configuration's pairs report to */
   long long body, other;
   double pr[3], po[3];
   double *bo, *bs;        /* PER_BODY: minima per body against obstacles, against bodies */
-  long long code;         /* the candidate (see scratch.code) that gave best */
+  long long code;         /* what gave best: b · nprim + p (body b, primitive p), −1 − k (body pair k) */
 } sink;
 
 typedef struct { double lb; long long node, cap; } qitem;   /* a capsule to walk a sphere set's tree with */
@@ -77,8 +77,7 @@ typedef struct {          /* the scratch space of one thread */
   wcap *C;                /* LANES × ncap */
   const wcap *Cl;         /* the lane whose pairs are evaluated: its capsules ... */
   const double *Wl;       /* ... and its bodies' balls */
-  double *lb;             /* candidates: lower bounds */
-  long long *code;        /* ... and what they are: b · nprim + p (obstacle), −1 − k (body pair k) */
+  double *pairlb;         /* npair: the body pairs' lower bounds */
   long long hint;         /* the candidate that gave the previous configuration's minimum (NO_HINT: none) */
   int hint_kept;          /* ... and the one before's too (random configurations: rarely) */
   double *plb;            /* nbody × nprim4: the bodies' lower bounds against every primitive */
@@ -687,7 +686,7 @@ RMT_INLINE void candidate(const rmt_clear_model *m, scratch *s, long long code, 
 /* every pair of one configuration (the capsules placed in s) */
 static void pairs(const rmt_clear_model *m, scratch *s, sink *k)
 {
-  long long nprim = m->nprim, ncand = 0;
+  long long nprim = m->nprim;
   double *plb = s->plb;
   if (k->mode == RMT_MODE_PER_BODY) {
     /* per body: its nearest primitive (by bound) first, then the others whose bounds come below */
@@ -718,32 +717,44 @@ static void pairs(const rmt_clear_model *m, scratch *s, sink *k)
   long long hint = s->hint_kept ? s->hint : NO_HINT;
   if (m->nset > 0) memset(s->done, 0, (size_t)nprim);
   if (hint != NO_HINT) candidate(m, s, hint, k);
-  double lo = HUGE_VAL;
-  long long first = -1, P4 = m->nprim4;
-  /* all the bounds first, then the scan (reading a bound right after its vector store stalls) */
+  long long first = NO_HINT, P4 = m->nprim4;
+  double lo = HUGE_VAL, *pairlb = s->pairlb;
+  /* all the bounds first (reading a bound right after its vector store stalls), the lowest without
+     branches (their outcomes are random); then the lowest candidate, then those still below the minimum
+     (after a good first one, few: a branch the processor predicts) */
   for (long long b = 0; b <= m->last; ++b)
     if (m->body_cap[b] < m->body_cap[b + 1] && nprim > 0) body_bounds(m, s->Wl + 4 * b, b, plb + P4 * b);
+  for (long long pr = 0; pr < m->npair; ++pr) {
+    const double *Wi = s->Wl + 4 * m->pair[2 * pr], *Wj = s->Wl + 4 * m->pair[2 * pr + 1];
+    double d2 = dist2(Wi, Wj), rr = Wi[3] + Wj[3];
+    pairlb[pr] = far_apart(d2, rr, k->best) ? HUGE_VAL : sqrt(d2) - rr;
+  }
   for (long long b = 0; b <= m->last; ++b) {
     if (m->body_cap[b] == m->body_cap[b + 1]) continue;
     const double *pb = plb + P4 * b;
     for (long long p = 0; p < nprim; ++p) {
       double lb = pb[p];
-      if (!(lb < k->best) || b * nprim + p == hint) continue;
-      if (lb < lo) { lo = lb; first = ncand; }
-      s->lb[ncand] = lb; s->code[ncand++] = b * nprim + p;
+      int lower = lb < lo;
+      first = lower ? b * nprim + p : first;
+      lo = lower ? lb : lo;
     }
   }
   for (long long pr = 0; pr < m->npair; ++pr) {
-    const double *Wi = s->Wl + 4 * m->pair[2 * pr], *Wj = s->Wl + 4 * m->pair[2 * pr + 1];
-    double d2 = dist2(Wi, Wj), rr = Wi[3] + Wj[3];
-    if (-1 - pr == hint || far_apart(d2, rr, k->best)) continue;
-    double lb = sqrt(d2) - rr;
-    if (lb < lo) { lo = lb; first = ncand; }
-    s->lb[ncand] = lb; s->code[ncand++] = -1 - pr;
+    int lower = pairlb[pr] < lo;
+    first = lower ? -1 - pr : first;
+    lo = lower ? pairlb[pr] : lo;
   }
-  if (first >= 0) candidate(m, s, s->code[first], k);
-  for (long long i = 0; i < ncand; ++i)
-    if (i != first && s->lb[i] < k->best) candidate(m, s, s->code[i], k);
+  if (lo < k->best && first != hint) candidate(m, s, first, k);
+  for (long long b = 0; b <= m->last; ++b) {
+    if (m->body_cap[b] == m->body_cap[b + 1]) continue;
+    const double *pb = plb + P4 * b;
+    for (long long p = 0; p < nprim; ++p) {
+      long long code = b * nprim + p;
+      if (pb[p] < k->best && code != first && code != hint) candidate(m, s, code, k);
+    }
+  }
+  for (long long pr = 0; pr < m->npair; ++pr)
+    if (pairlb[pr] < k->best && -1 - pr != first && -1 - pr != hint) body_pair(m, s, pr, k);
   s->hint_kept = k->code == s->hint && k->code != NO_HINT;
   s->hint = k->code;
 }
@@ -756,9 +767,8 @@ static void scratch_layout(const rmt_clear_model *m, double *buf, scratch *s)
   s->plb = s->W + 4 * LANES * m->nbody;
   s->C = (wcap *)(s->plb + m->nbody * m->nprim4);
   s->heap = (qitem *)(s->C + LANES * m->ncap);
-  s->lb = (double *)(s->heap + m->ncap);
-  s->code = (long long *)(s->lb + m->nbody * m->nprim + m->npair);
-  s->done = (unsigned char *)(s->code + m->nbody * m->nprim + m->npair);
+  s->pairlb = (double *)(s->heap + m->ncap);
+  s->done = (unsigned char *)(s->pairlb + m->npair);
   s->hint = NO_HINT;
   s->hint_kept = 0;
 }
@@ -767,7 +777,7 @@ static size_t scratch_size(const rmt_clear_model *m)
 {
   return sizeof(double) * (size_t)(16 * LANES * m->nbody + 2 * LANES * (m->n > 0 ? m->n : 1) + m->nbody * m->nprim4)
        + sizeof(wcap) * (size_t)(LANES * m->ncap) + sizeof(qitem) * (size_t)m->ncap
-       + (sizeof(double) + sizeof(long long)) * (size_t)(m->nbody * m->nprim + m->npair) + (size_t)m->nprim;
+       + sizeof(double) * (size_t)m->npair + (size_t)m->nprim;
 }
 /* ---- entry points ------------------------------------------------------------------------------- */
 typedef struct {
