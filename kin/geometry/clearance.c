@@ -1,41 +1,49 @@
 /* The signed clearance of a robot's capsules against a cell's obstacles and against each other, for a
    batch of configurations: loaded by kin/geometry/clearance.py (built by kin.native.build; no generated
-   header — the kernel is generic, the robot and the cell come in at run time as an rmt_clear_model,
-   see clearance.h for the data layout).
+   header — the kernel is generic: the robot and the cell come in at run time as an rmt_clear_model,
+   whose data layout clearance.h describes; poses are stored as their columns x, y, z, origin).
 
-   Per configuration: the body frames from the DH rows (standard or modified, as
-   kin/geometry/frames.py::body_frames: frame 0 = base, frame k = frame k−1 · A_k, the tool = frame n ·
-   tool; sin/cos once per joint, no frame past the last body holding a capsule), every capsule's segment
-   in the world, then the pairs:
+   Frames, LANES (8) configurations at a time, vectorised across them (structure of arrays, lane
+   fastest): sin/cos once per joint (Cody–Waite reduction, Cephes polynomials, ~1 ulp; libm beyond
+   |angle| 1e5), then frame k = frame k−1 · A_k in the convention of kin/geometry/frames.py::body_frames
+   (standard Rz·Tz·Tx·Rx or modified Rx·Tx·Rz·Tz), the tool = frame n · tool, no frame past the last body
+   holding a capsule; every capsule's segment and every body's bounding ball in the world.  Then, per
+   configuration, the pairs:
 
-   * capsule – sphere, capsule – capsule: the exact distance of the segments (Ericson's closest points,
-     branch-free but for near-parallel segments) minus the radii; negative = overlap depth;
+   * capsule – sphere, capsule – capsule: the distance of the segments (Ericson's closest points,
+     without branches; near-parallel segments, where his 2×2 solve loses digits, measured across the
+     first one's line) minus the radii; negative = overlap depth;
    * capsule – box, capsule – cylinder: the minimum over the capsule's segment of the solid's signed
      distance function (the distance to the solid outside, minus the depth inside) minus the capsule's
      radius.  f(t) = sdf(a + t·(b − a)) is convex, so each evaluation (value and slope) gives a tangent
      line below f: the two tangent lines of a bracket [lo, hi] (slope < 0 at lo, > 0 at hi) meet at a
-     proven LOWER BOUND of min f, and the best point evaluated gives an upper bound.  The bracket shrinks
-     (secant steps on the slope, alternating with steps to the tangents' crossing) until the two bounds
-     are TOL apart, and the kernel reports the lower bound.  Near-parallel segments (where Ericson's
-     2×2 solve loses digits) go the same way, f being the distance to the other segment;
-   * capsule – sphere set: a bounding-sphere hierarchy (built in Python, kin/geometry/clearance.py)
-     walked nearest child first, pruned against the running minimum.
+     proven LOWER BOUND of min f, widened by the slopes' rounding (bracket_bound), and the best point
+     evaluated gives an upper bound.  The bracket shrinks (secant steps on the slope, alternating with
+     steps to the tangents' crossing) until the bounds are TOL apart; the kernel reports the lower one.
+     Most pairs end at the first or second evaluation (a segment over a face: f is linear);
+   * capsule – sphere set: a bounding-volume hierarchy (balls and axis-aligned boxes, built in numpy by
+     clearance.py) walked depth first, nearest child first, the capsules nearest the root first.
 
-   The promise: a reported clearance NEVER exceeds the true signed distance (beyond the rounding of
-   the frames, ~1e-15 m) and lies within TOL (1e-7 m) of it — the planner's proofs rely on the lower
-   bound.  Values at or above `cap` are reported as `cap`: every pair is first tested by bounding
-   balls (of the body, of the capsule, of the obstacle primitive, of the hierarchy's nodes) against the
-   running minimum (or cap), so most pairs cost one squared distance.  In the minimum modes the pair
-   whose balls come closest is evaluated first, so the running minimum is tight early.
+   The promise: a reported clearance NEVER exceeds the true signed distance (beyond the rounding of the
+   frames, ~1e-15 m) and lies within TOL (1e-7 m) of it — the planner's proofs rely on the lower bound.
+
+   Pruning, against the running minimum (or `cap`: values at or above it are reported as cap): a lower
+   bound per body and primitive (the bounding balls, and the primitive's world box where the body's
+   centre lies outside it: exact for an upright table), computed for all primitives at once in vector
+   code; per capsule, its ball, and for a box or a cylinder the segment's box in the solid's frame.  For
+   the minimum (modes MIN, NEAREST) the pair of lowest bound is evaluated first — or, when one pair gave
+   the minimum of the last two configurations (configurations along a motion), that pair — and then only
+   the pairs whose bounds still come below the minimum.
 
    Modes (clearance.h): RMT_MODE_MIN (N,) minima; RMT_MODE_NEAREST adds the body, the other party
    (obstacle index >= 0, or −1 − other body for a self pair; body = other = −1 and NaN points when
-   nothing lies below cap) and the two witness points (on the capsule's surface and on the other
-   party's, |p_robot − p_other| = |clearance|); RMT_MODE_PER_BODY writes (N, n + 2) minima per body
-   against obstacles and against other bodies (a self pair counts for both of its bodies).
+   nothing lies below cap) and the two witness points (p_robot on the capsule, p_other on the other
+   party's surface, |p_robot − p_other| = |clearance|; in a penetration of a box or a cylinder p_robot is
+   the segment's deepest point moved by the radius along the solid's normal); RMT_MODE_PER_BODY writes
+   (N, n + 2) minima per body against obstacles and against other bodies (a self pair counts for both).
 
-   Threads: configurations in chunks over rmt_parallel_for (rmt_parallel.h); each configuration's
-   result does not depend on the thread count. */
+   Threads: configurations in chunks of CHUNK over rmt_parallel_for (rmt_parallel.h); a configuration's
+   result depends on its chunk only, never on the thread count. */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
