@@ -518,8 +518,16 @@ class ClearanceModel:
 
     # ---- calls ------------------------------------------------------------------------------------------
     def _Q(self, Q) -> tuple[np.ndarray, bool]:
-        from kin.robot import real_array
-        return self.chain.as_batch(real_array(Q, "q", ConfigurationError))
+        """Q as a validated batch (``chain.as_batch``), refusing what is not real numbers (as
+        :func:`kin.robot.real_array` does: that module imports this package)."""
+        if type(Q) is not np.ndarray:
+            try:
+                Q = np.asarray(Q)
+            except (TypeError, ValueError) as e:
+                raise ConfigurationError(f"q is not an array of numbers ({e})") from None
+        if Q.dtype.kind not in "fiu":
+            raise ConfigurationError(f"q must hold real numbers; got {Q.dtype.name} values")
+        return self.chain.as_batch(Q)
 
     def _threads(self, N: int, threads) -> int:
         threads = _threads_arg(threads)
