@@ -363,7 +363,7 @@ def _load():
             if "none" not in _loaded:
                 _loaded["none"] = None
                 warnings.warn("rmtkit: no C compiler (RMTKIT_CC=none or none found): the clearance kernel runs "
-                              "in numpy, far slower", RuntimeWarning, stacklevel=4)
+                              "in numpy, far slower", RuntimeWarning, stacklevel=3)
         return None
     with _lock:
         if compiler in _loaded:
@@ -374,7 +374,7 @@ def _load():
             one = ctypes.PyDLL(str(lib.path)).rmt_clear_one       # PyDLL: cheaper for one configuration
         except (CompileError, OSError) as e:
             warnings.warn(f"rmtkit: compiling the clearance kernel failed, using numpy instead ({e})",
-                          RuntimeWarning, stacklevel=4)
+                          RuntimeWarning, stacklevel=3)
             _loaded[compiler] = None
             return None
         p, ll = ctypes.c_void_p, ctypes.c_longlong
