@@ -1,41 +1,49 @@
 /* The signed clearance of a robot's capsules against a cell's obstacles and against each other, for a
    batch of configurations: loaded by kin/geometry/clearance.py (built by kin.native.build; no generated
-   header — the kernel is generic, the robot and the cell come in at run time as an rmt_clear_model,
-   see clearance.h for the data layout).
+   header — the kernel is generic: the robot and the cell come in at run time as an rmt_clear_model,
+   whose data layout clearance.h describes; poses are stored as their columns x, y, z, origin).
 
-   Per configuration: the body frames from the DH rows (standard or modified, as
-   kin/geometry/frames.py::body_frames: frame 0 = base, frame k = frame k−1 · A_k, the tool = frame n ·
-   tool; sin/cos once per joint, no frame past the last body holding a capsule), every capsule's segment
-   in the world, then the pairs:
+   Frames, LANES (8) configurations at a time, vectorised across them (structure of arrays, lane
+   fastest): sin/cos once per joint (Cody–Waite reduction, Cephes polynomials, ~1 ulp; libm beyond
+   |angle| 1e5), then frame k = frame k−1 · A_k in the convention of kin/geometry/frames.py::body_frames
+   (standard Rz·Tz·Tx·Rx or modified Rx·Tx·Rz·Tz), the tool = frame n · tool, no frame past the last body
+   holding a capsule; every capsule's segment and every body's bounding ball in the world.  Then, per
+   configuration, the pairs:
 
-   * capsule – sphere, capsule – capsule: the exact distance of the segments (Ericson's closest points,
-     branch-free but for near-parallel segments) minus the radii; negative = overlap depth;
+   * capsule – sphere, capsule – capsule: the distance of the segments (Ericson's closest points,
+     without branches; near-parallel segments, where his 2×2 solve loses digits, measured across the
+     first one's line) minus the radii; negative = overlap depth;
    * capsule – box, capsule – cylinder: the minimum over the capsule's segment of the solid's signed
      distance function (the distance to the solid outside, minus the depth inside) minus the capsule's
      radius.  f(t) = sdf(a + t·(b − a)) is convex, so each evaluation (value and slope) gives a tangent
      line below f: the two tangent lines of a bracket [lo, hi] (slope < 0 at lo, > 0 at hi) meet at a
-     proven LOWER BOUND of min f, and the best point evaluated gives an upper bound.  The bracket shrinks
-     (secant steps on the slope, alternating with steps to the tangents' crossing) until the two bounds
-     are TOL apart, and the kernel reports the lower bound.  Near-parallel segments (where Ericson's
-     2×2 solve loses digits) go the same way, f being the distance to the other segment;
-   * capsule – sphere set: a bounding-sphere hierarchy (built in Python, kin/geometry/clearance.py)
-     walked nearest child first, pruned against the running minimum.
+     proven LOWER BOUND of min f, widened by the slopes' rounding (bracket_bound), and the best point
+     evaluated gives an upper bound.  The bracket shrinks (secant steps on the slope, alternating with
+     steps to the tangents' crossing) until the bounds are TOL apart; the kernel reports the lower one.
+     Most pairs end at the first or second evaluation (a segment over a face: f is linear);
+   * capsule – sphere set: a bounding-volume hierarchy (balls and axis-aligned boxes, built in numpy by
+     clearance.py) walked depth first, nearest child first, the capsules nearest the root first.
 
-   The promise: a reported clearance NEVER exceeds the true signed distance (beyond the rounding of
-   the frames, ~1e-15 m) and lies within TOL (1e-7 m) of it — the planner's proofs rely on the lower
-   bound.  Values at or above `cap` are reported as `cap`: every pair is first tested by bounding
-   balls (of the body, of the capsule, of the obstacle primitive, of the hierarchy's nodes) against the
-   running minimum (or cap), so most pairs cost one squared distance.  In the minimum modes the pair
-   whose balls come closest is evaluated first, so the running minimum is tight early.
+   The promise: a reported clearance NEVER exceeds the true signed distance (beyond the rounding of the
+   frames, ~1e-15 m) and lies within TOL (1e-7 m) of it — the planner's proofs rely on the lower bound.
+
+   Pruning, against the running minimum (or `cap`: values at or above it are reported as cap): a lower
+   bound per body and primitive (the bounding balls, and the primitive's world box where the body's
+   centre lies outside it: exact for an upright table), computed for all primitives at once in vector
+   code; per capsule, its ball, and for a box or a cylinder the segment's box in the solid's frame.  For
+   the minimum (modes MIN, NEAREST) the pair of lowest bound is evaluated first — or, when one pair gave
+   the minimum of the last two configurations (configurations along a motion), that pair — and then only
+   the pairs whose bounds still come below the minimum.
 
    Modes (clearance.h): RMT_MODE_MIN (N,) minima; RMT_MODE_NEAREST adds the body, the other party
    (obstacle index >= 0, or −1 − other body for a self pair; body = other = −1 and NaN points when
-   nothing lies below cap) and the two witness points (on the capsule's surface and on the other
-   party's, |p_robot − p_other| = |clearance|); RMT_MODE_PER_BODY writes (N, n + 2) minima per body
-   against obstacles and against other bodies (a self pair counts for both of its bodies).
+   nothing lies below cap) and the two witness points (p_robot on the capsule, p_other on the other
+   party's surface, |p_robot − p_other| = |clearance|; in a penetration of a box or a cylinder p_robot is
+   the segment's deepest point moved by the radius along the solid's normal); RMT_MODE_PER_BODY writes
+   (N, n + 2) minima per body against obstacles and against other bodies (a self pair counts for both).
 
-   Threads: configurations in chunks over rmt_parallel_for (rmt_parallel.h); each configuration's
-   result does not depend on the thread count. */
+   Threads: configurations in chunks of CHUNK over rmt_parallel_for (rmt_parallel.h); a configuration's
+   result depends on its chunk only, never on the thread count. */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -65,7 +73,7 @@ typedef struct {          /* what one configuration's pairs report to */
   long long body, other;
   double pr[3], po[3];
   double *bo, *bs;        /* PER_BODY: minima per body against obstacles, against bodies */
-  long long code;         /* the candidate (see scratch.code) that gave best */
+  long long code;         /* what gave best: b · nprim + p (body b, primitive p), −1 − k (body pair k) */
 } sink;
 
 typedef struct { double lb; long long node, cap; } qitem;   /* a capsule to walk a sphere set's tree with */
@@ -77,9 +85,9 @@ typedef struct {          /* the scratch space of one thread */
   wcap *C;                /* LANES × ncap */
   const wcap *Cl;         /* the lane whose pairs are evaluated: its capsules ... */
   const double *Wl;       /* ... and its bodies' balls */
-  double *lb;             /* candidates: lower bounds */
-  long long *code;        /* ... and what they are: b · nprim + p (obstacle), −1 − k (body pair k) */
+  double *pairlb;         /* npair: the body pairs' lower bounds */
   long long hint;         /* the candidate that gave the previous configuration's minimum (NO_HINT: none) */
+  int hint_kept;          /* ... and the one before's too (random configurations: rarely) */
   double *plb;            /* nbody × nprim4: the bodies' lower bounds against every primitive */
   qitem *heap;            /* ncap: the capsules to walk a sphere set's tree with, by bound */
   unsigned char *done;    /* nprim: the sets searched for this configuration */
@@ -686,7 +694,7 @@ RMT_INLINE void candidate(const rmt_clear_model *m, scratch *s, long long code, 
 /* every pair of one configuration (the capsules placed in s) */
 static void pairs(const rmt_clear_model *m, scratch *s, sink *k)
 {
-  long long nprim = m->nprim, ncand = 0;
+  long long nprim = m->nprim;
   double *plb = s->plb;
   if (k->mode == RMT_MODE_PER_BODY) {
     /* per body: its nearest primitive (by bound) first, then the others whose bounds come below */
@@ -711,38 +719,51 @@ static void pairs(const rmt_clear_model *m, scratch *s, sink *k)
     }
     return;
   }
-  /* the minimum: first the candidate that gave the previous configuration's (a tight start when
-     configurations come in order), then the candidates whose bounds come below the minimum so far,
-     the lowest bound first */
-  long long hint = s->hint;
+  /* the minimum: first the candidate that gave the previous configuration's when it also gave the one
+     before (configurations that come in order, along a motion: a tight start), then the candidates whose
+     bounds come below the minimum so far, the lowest bound first */
+  long long hint = s->hint_kept ? s->hint : NO_HINT;
   if (m->nset > 0) memset(s->done, 0, (size_t)nprim);
   if (hint != NO_HINT) candidate(m, s, hint, k);
-  double lo = HUGE_VAL;
-  long long first = -1, P4 = m->nprim4;
-  /* all the bounds first, then the scan (reading a bound right after its vector store stalls) */
+  long long first = NO_HINT, P4 = m->nprim4;
+  double lo = HUGE_VAL, *pairlb = s->pairlb;
+  /* all the bounds first (reading a bound right after its vector store stalls), the lowest without
+     branches (their outcomes are random); then the lowest candidate, then those still below the minimum
+     (after a good first one, few: a branch the processor predicts) */
   for (long long b = 0; b <= m->last; ++b)
     if (m->body_cap[b] < m->body_cap[b + 1] && nprim > 0) body_bounds(m, s->Wl + 4 * b, b, plb + P4 * b);
+  for (long long pr = 0; pr < m->npair; ++pr) {
+    const double *Wi = s->Wl + 4 * m->pair[2 * pr], *Wj = s->Wl + 4 * m->pair[2 * pr + 1];
+    double d2 = dist2(Wi, Wj), rr = Wi[3] + Wj[3];
+    pairlb[pr] = far_apart(d2, rr, k->best) ? HUGE_VAL : sqrt(d2) - rr;
+  }
   for (long long b = 0; b <= m->last; ++b) {
     if (m->body_cap[b] == m->body_cap[b + 1]) continue;
     const double *pb = plb + P4 * b;
     for (long long p = 0; p < nprim; ++p) {
       double lb = pb[p];
-      if (!(lb < k->best) || b * nprim + p == hint) continue;
-      if (lb < lo) { lo = lb; first = ncand; }
-      s->lb[ncand] = lb; s->code[ncand++] = b * nprim + p;
+      int lower = lb < lo;
+      first = lower ? b * nprim + p : first;
+      lo = lower ? lb : lo;
     }
   }
   for (long long pr = 0; pr < m->npair; ++pr) {
-    const double *Wi = s->Wl + 4 * m->pair[2 * pr], *Wj = s->Wl + 4 * m->pair[2 * pr + 1];
-    double d2 = dist2(Wi, Wj), rr = Wi[3] + Wj[3];
-    if (-1 - pr == hint || far_apart(d2, rr, k->best)) continue;
-    double lb = sqrt(d2) - rr;
-    if (lb < lo) { lo = lb; first = ncand; }
-    s->lb[ncand] = lb; s->code[ncand++] = -1 - pr;
+    int lower = pairlb[pr] < lo;
+    first = lower ? -1 - pr : first;
+    lo = lower ? pairlb[pr] : lo;
   }
-  if (first >= 0) candidate(m, s, s->code[first], k);
-  for (long long i = 0; i < ncand; ++i)
-    if (i != first && s->lb[i] < k->best) candidate(m, s, s->code[i], k);
+  if (lo < k->best && first != hint) candidate(m, s, first, k);
+  for (long long b = 0; b <= m->last; ++b) {
+    if (m->body_cap[b] == m->body_cap[b + 1]) continue;
+    const double *pb = plb + P4 * b;
+    for (long long p = 0; p < nprim; ++p) {
+      long long code = b * nprim + p;
+      if (pb[p] < k->best && code != first && code != hint) candidate(m, s, code, k);
+    }
+  }
+  for (long long pr = 0; pr < m->npair; ++pr)
+    if (pairlb[pr] < k->best && -1 - pr != first && -1 - pr != hint) body_pair(m, s, pr, k);
+  s->hint_kept = k->code == s->hint && k->code != NO_HINT;
   s->hint = k->code;
 }
 
@@ -754,17 +775,17 @@ static void scratch_layout(const rmt_clear_model *m, double *buf, scratch *s)
   s->plb = s->W + 4 * LANES * m->nbody;
   s->C = (wcap *)(s->plb + m->nbody * m->nprim4);
   s->heap = (qitem *)(s->C + LANES * m->ncap);
-  s->lb = (double *)(s->heap + m->ncap);
-  s->code = (long long *)(s->lb + m->nbody * m->nprim + m->npair);
-  s->done = (unsigned char *)(s->code + m->nbody * m->nprim + m->npair);
+  s->pairlb = (double *)(s->heap + m->ncap);
+  s->done = (unsigned char *)(s->pairlb + m->npair);
   s->hint = NO_HINT;
+  s->hint_kept = 0;
 }
 
 static size_t scratch_size(const rmt_clear_model *m)
 {
   return sizeof(double) * (size_t)(16 * LANES * m->nbody + 2 * LANES * (m->n > 0 ? m->n : 1) + m->nbody * m->nprim4)
        + sizeof(wcap) * (size_t)(LANES * m->ncap) + sizeof(qitem) * (size_t)m->ncap
-       + (sizeof(double) + sizeof(long long)) * (size_t)(m->nbody * m->nprim + m->npair) + (size_t)m->nprim;
+       + sizeof(double) * (size_t)m->npair + (size_t)m->nprim;
 }
 /* ---- entry points ------------------------------------------------------------------------------- */
 typedef struct {

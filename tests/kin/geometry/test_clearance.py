@@ -631,5 +631,14 @@ def test_invalid_configurations():
             assert "\n" not in str(e.value)
     with pytest.raises(ArgumentError, match="threads"):
         m.clearance(np.zeros(6), threads=-2)
+    # a prismatic value beyond the range any prismatic joint may take: the single call's C check sends it
+    # to the validating path
+    chain = random_chain(5, n=3, types=("revolute", "prismatic", "revolute"))
+    p = model(chain, random_cell(26))
+    q = [0.1, 0.0, 0.2]
+    assert p.clear_one(q) == pytest.approx(p.clearance(np.array(q)), abs=1e-12)
+    for bad in ([0.1, 1e9, 0.2], [0.1, math.nan, 0.2]):
+        with pytest.raises(ConfigurationError, match="joint 2"):
+            p.clear_one(bad)
     with pytest.raises(ArgumentError, match="chain"):
         ClearanceModel("puma")
