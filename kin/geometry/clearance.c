@@ -867,3 +867,86 @@ double rmt_clear_one(const rmt_clear_model *m, const double *q, double cap)
   if (buf != local) free(buf);
   return k.best;
 }
+
+/* Per-body clearances (against obstacles: o, against other bodies: s; nbody each) of one configuration
+   q, capped at cap. */
+static void per_body_one(const rmt_clear_model *m, scratch *s, const double *q, double cap, double *o, double *so)
+{
+  frames(m, q, 1, s, 1);
+  place(m, s, 1);
+  s->Cl = s->C;
+  s->Wl = s->W;
+  for (long long b = 0; b < m->nbody; ++b) o[b] = so[b] = cap;
+  sink k = { RMT_MODE_PER_BODY, cap, -1, -1, { 0, 0, 0 }, { 0, 0, 0 }, o, so, NO_HINT };
+  pairs(m, s, &k);
+}
+
+static double min_of(const double *x, long long B)
+{
+  double v = HUGE_VAL;
+  for (long long b = 0; b < B; ++b) v = x[b] < v ? x[b] : v;
+  return v;
+}
+
+/* The proof of planning/certify/collision.py for one straight motion a → b (n each), stopping at the
+   first answer: every body k's points move at most d_obs[k]·|t1 − t0| along a piece [t0, t1] (and, for
+   the self bound, d_self[k]·|t1 − t0|), so a piece whose end clearances satisfy c0 + c1 − 2·margin >
+   that bound for every body is clear; other pieces are halved, left first, up to max_depth halvings
+   and max_evals evaluated states.  Returns 1 proven clear, 0 a state with clearance <= margin found
+   (its parameter in *t_out), -1 not settled within the budget, -2 out of memory or a bad q. */
+int rmt_prove_motion(const rmt_clear_model *m, const double *a, const double *b, double cap,
+                     const double *d_obs, const double *d_self, double margin, int max_depth, long long max_evals,
+                     double *t_out)
+{
+  long long n = m->n, B = m->nbody;
+  for (long long j = 0; j < n; ++j)
+    if (!(fabs(a[j]) <= m->dh[8 * j + 6]) || !(fabs(b[j]) <= m->dh[8 * j + 6])) return -2;
+  size_t need = scratch_size(m);
+  long long depth_cap = max_depth + 2;
+  /* the stack of pieces: t0, t1, depth, then o0, s0, o1, s1 (B each) */
+  size_t piece = (size_t)(3 + 4 * B);
+  double *buf = (double *)malloc(need + sizeof(double) * (piece * (size_t)(depth_cap + 1) + 2 * B + n + 1));
+  if (buf == NULL) return -2;
+  scratch s;
+  scratch_layout(m, buf, &s);
+  double *stack = buf + need / sizeof(double) + 1;
+  double *om = stack + piece * (size_t)(depth_cap + 1), *sm = om + B, *q = sm + B;
+  int result = 1;
+  long long top = 0, evals = 2;
+  double *p = stack;
+  p[0] = 0.0; p[1] = 1.0; p[2] = 0.0;
+  per_body_one(m, &s, a, cap, p + 3, p + 3 + B);
+  per_body_one(m, &s, b, cap, p + 3 + 2 * B, p + 3 + 3 * B);
+  if (fmin(min_of(p + 3, B), min_of(p + 3 + B, B)) <= margin) { *t_out = 0.0; result = 0; goto done; }
+  if (fmin(min_of(p + 3 + 2 * B, B), min_of(p + 3 + 3 * B, B)) <= margin) { *t_out = 1.0; result = 0; goto done; }
+  top = 1;
+  while (top > 0) {
+    p = stack + piece * (size_t)(top - 1);
+    double t0 = p[0], t1 = p[1], w = t1 - t0;
+    int depth = (int)p[2];
+    const double *o0 = p + 3, *s0 = o0 + B, *o1 = s0 + B, *s1 = o1 + B;
+    int ok = 1;
+    for (long long k = 0; k < B && ok; ++k)
+      ok = o0[k] + o1[k] - 2 * margin > d_obs[k] * w && s0[k] + s1[k] - 2 * margin > d_self[k] * w;
+    if (ok) { --top; continue; }
+    if (depth >= max_depth || evals >= max_evals) { result = -1; goto done; }
+    double tm = 0.5 * (t0 + t1);
+    for (long long j = 0; j < n; ++j) q[j] = a[j] + tm * (b[j] - a[j]);
+    per_body_one(m, &s, q, cap, om, sm);
+    ++evals;
+    if (fmin(min_of(om, B), min_of(sm, B)) <= margin) { *t_out = tm; result = 0; goto done; }
+    /* this piece becomes its right half [tm, t1]; its left half [t0, tm] goes on top, to be done first */
+    double *r = p, *l = stack + piece * (size_t)top;
+    l[0] = t0; l[1] = tm; l[2] = depth + 1;
+    for (long long k = 0; k < B; ++k) {
+      l[3 + k] = o0[k]; l[3 + B + k] = s0[k];
+      l[3 + 2 * B + k] = om[k]; l[3 + 3 * B + k] = sm[k];
+    }
+    r[0] = tm; r[2] = depth + 1;
+    for (long long k = 0; k < B; ++k) { r[3 + k] = om[k]; r[3 + B + k] = sm[k]; }
+    ++top;
+  }
+done:
+  free(buf);
+  return result;
+}

@@ -355,7 +355,7 @@ _loaded: dict[str, object] = {}
 
 
 def _load():
-    """(rmt_clearance, rmt_clear_one) of the built library, or None without a working compiler (a
+    """(rmt_clearance, rmt_clear_one, rmt_prove_motion) of the built library, or None without a working compiler (a
     warning, once per compiler)."""
     compiler = find_compiler()
     if compiler is None:
@@ -372,6 +372,7 @@ def _load():
             lib = build("geometry_clearance", CLEARANCE_SOURCE, compiler=compiler, what="the clearance kernel")
             batch = ctypes.CDLL(str(lib.path)).rmt_clearance      # CDLL: the batch call releases the GIL
             one = ctypes.PyDLL(str(lib.path)).rmt_clear_one       # PyDLL: cheaper for one configuration
+            prove = ctypes.PyDLL(str(lib.path)).rmt_prove_motion
         except (CompileError, OSError) as e:
             warnings.warn(f"rmtkit: compiling the clearance kernel failed, using numpy instead ({e})",
                           RuntimeWarning, stacklevel=3)
@@ -382,7 +383,9 @@ def _load():
         batch.restype = ctypes.c_int
         one.argtypes = [p, p, ctypes.c_double]
         one.restype = ctypes.c_double
-        _loaded[compiler] = (batch, one)
+        prove.argtypes = [p, p, p, ctypes.c_double, p, p, ctypes.c_double, ctypes.c_int, ll, p]
+        prove.restype = ctypes.c_int
+        _loaded[compiler] = (batch, one, prove)
         return _loaded[compiler]
 
 
@@ -440,10 +443,10 @@ class ClearanceModel:
         fns = _load()
         if fns is None:
             self.backend = "numpy"
-            self._batch = self._one = None
+            self._batch = self._one = self._prove = None
         else:
             self.backend = "compiled"
-            self._batch, self._one = fns
+            self._batch, self._one, self._prove = fns
             self._struct = self._flat.struct()
             self._mp = ctypes.addressof(self._struct)
             self._q1 = (ctypes.c_double * n)()
@@ -592,6 +595,28 @@ class ClearanceModel:
         if Q.shape[0] != 1:
             raise ConfigurationError(f"clear_one takes one configuration ({self.chain.n},), got shape {Q.shape}")
         return float(self._run(Q, MODE_MIN, 1)["clearance"][0])
+
+    def prove_motion(self, a, b, d_obs, d_self, margin: float, max_depth: int, max_evals: int
+                     ) -> tuple[int, float] | None:
+        """The collision proof of :mod:`planning.certify.collision` for one straight motion ``a`` → ``b``
+        (n each, SI) in C, stopping at the first answer: ``(1, nan)`` proven clear, ``(0, t)`` a state
+        with clearance ≤ ``margin`` at parameter t, ``(-1, nan)`` not settled within ``max_depth``
+        halvings and ``max_evals`` states.  ``d_obs``, ``d_self`` (n + 2,): how far each body's points
+        can move over the whole motion (m), against obstacles and against other bodies.  None without
+        the compiled kernel, or for a configuration the C refuses (the caller then takes the batch path)."""
+        if self._prove is None:
+            return None
+        n, B = self.chain.n, self.chain.n + 2
+        A = np.ascontiguousarray(a, dtype=float)
+        Bq = np.ascontiguousarray(b, dtype=float)
+        do = np.ascontiguousarray(d_obs, dtype=float)
+        ds = np.ascontiguousarray(d_self, dtype=float)
+        if A.shape != (n,) or Bq.shape != (n,) or do.shape != (B,) or ds.shape != (B,):
+            raise ArgumentError(f"prove_motion: a, b must be ({n},) and the bounds ({B},)")
+        t = ctypes.c_double(math.nan)
+        r = self._prove(self._mp, A.ctypes.data, Bq.ctypes.data, self.cap, do.ctypes.data, ds.ctypes.data,
+                        float(margin), int(max_depth), int(max_evals), ctypes.addressof(t))
+        return None if r == -2 else (int(r), float(t.value))
 
     def _fast_one(self):
         """:meth:`clear_one` through the kernel's single-configuration entry: q goes into a ctypes buffer

@@ -89,6 +89,10 @@ def certify_collision(world, path, max_depth: int = MAX_DEPTH, max_evals: int = 
     if P.size == 0:
         return CollisionProof(True, None)
     m = world.margin
+    if stop_at_first and len(P) == 2:
+        fast = _motion_in_c(world, P, max_depth, max_evals)
+        if fast is not None:
+            return fast
     obs, slf = world.per_body(P)
     evals = len(P)
     rowmin = np.minimum(obs.min(axis=1), slf.min(axis=1))
@@ -157,6 +161,21 @@ def certify_collision(world, path, max_depth: int = MAX_DEPTH, max_evals: int = 
             before = (seg < fs) | ((seg == fs) & (t0 < ft))
             seg, t0, t1, o0, o1, s0, s1 = (x[before] for x in (seg, t0, t1, o0, o1, s0, s1))
     return _result(world, P, hits, sorted(unproven), bound, min_s, min_i, evals)
+
+
+def _motion_in_c(world, P: np.ndarray, max_depth: int, max_evals: int) -> CollisionProof | None:
+    """One motion, yes or no, by the kernel's C version of the same proof (None: not available)."""
+    D_obs, D_self = _motion(world, (P[1] - P[0])[None])
+    r = world.model.prove_motion(P[0], P[1], D_obs[0], D_self[0], world.margin, max_depth, max_evals)
+    if r is None:
+        return None
+    status, t = r
+    if status == 1:
+        return CollisionProof(True, None)
+    if status == -1:
+        return CollisionProof(False, None, [0])
+    q = P[0] + t * (P[1] - P[0])
+    return _result(world, P, [(0, t, q)], [], -math.inf, math.inf, -1, 0)
 
 
 def _result(world, P, hits, unproven, bound, min_s, min_i, evals) -> CollisionProof:

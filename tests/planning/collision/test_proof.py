@@ -128,3 +128,25 @@ def test_a_segment_that_ends_in_collision_is_reported_where_it_enters(fanuc):
     ts = np.linspace(0, v.t, 2001)[:-1]
     assert world.clearance(a + ts[:, None] * (b - a)).min() > -1e-9        # nothing deeper before it
     assert v.deepest <= v.clearance and "obstacle 'block'" in v.text
+
+
+def test_the_c_motion_proof_agrees_with_the_batch_proof(fanuc):
+    """A motion validator's yes/no (the kernel's C proof) equals the batch proof's on random motions,
+    and a state it reports is in collision."""
+    obstacles = [_box((0.5, 0.0, 0.15), (0.2, 0.6, 0.3), "block"), _sphere((0.2, 0.45, 0.5), 0.08)]
+    world = CollisionWorld(fanuc, obstacles=obstacles)
+    Q = fanuc.random_configurations(3000, seed=9)
+    Q = Q[world.clearance(Q) > 0]
+    rng = np.random.default_rng(4)
+    seen = set()
+    for _ in range(150):
+        a, b = Q[rng.integers(len(Q), size=2)]
+        b = a + 0.4 * (b - a)
+        fast = certify_collision(world, [a, b], stop_at_first=True)
+        full = certify_collision(world, np.array([a, b]))
+        assert fast.proven == full.proven
+        if fast.violation is not None:
+            assert world.clearance(fast.violation.q) <= 0
+        seen.add(fast.proven)
+    assert seen == {True, False}
+    assert world.model.backend == "compiled"
