@@ -914,9 +914,14 @@ int rmt_prove_motion(const rmt_clear_model *m, const double *a, const double *b,
   int result = 1;
   long long top = 0, evals = 2;
   double *p = stack;
+  /* a clearance above what a piece of width w can need (both ends together must beat d·w + 2·margin)
+     changes no verdict: evaluating with that cap lets the kernel skip the far pairs */
+  double dmax = 0.0;
+  for (long long k = 0; k < B; ++k) dmax = fmax(dmax, fmax(d_obs[k], d_self[k]));
+  double cap1 = fmin(cap, dmax + 2 * margin + 1e-9);
   p[0] = 0.0; p[1] = 1.0; p[2] = 0.0;
-  per_body_one(m, &s, a, cap, p + 3, p + 3 + B);
-  per_body_one(m, &s, b, cap, p + 3 + 2 * B, p + 3 + 3 * B);
+  per_body_one(m, &s, a, cap1, p + 3, p + 3 + B);
+  per_body_one(m, &s, b, cap1, p + 3 + 2 * B, p + 3 + 3 * B);
   if (fmin(min_of(p + 3, B), min_of(p + 3 + B, B)) <= margin) { *t_out = 0.0; result = 0; goto done; }
   if (fmin(min_of(p + 3 + 2 * B, B), min_of(p + 3 + 3 * B, B)) <= margin) { *t_out = 1.0; result = 0; goto done; }
   top = 1;
@@ -932,7 +937,7 @@ int rmt_prove_motion(const rmt_clear_model *m, const double *a, const double *b,
     if (depth >= max_depth || evals >= max_evals) { result = -1; goto done; }
     double tm = 0.5 * (t0 + t1);
     for (long long j = 0; j < n; ++j) q[j] = a[j] + tm * (b[j] - a[j]);
-    per_body_one(m, &s, q, cap, om, sm);
+    per_body_one(m, &s, q, fmin(cap1, dmax * w + 2 * margin + 1e-9), om, sm);
     ++evals;
     if (fmin(min_of(om, B), min_of(sm, B)) <= margin) { *t_out = tm; result = 0; goto done; }
     /* this piece becomes its right half [tm, t1]; its left half [t0, tm] goes on top, to be done first */
