@@ -5,7 +5,9 @@ the collision proofs and the compiled clearance kernel.
 * :mod:`kin.geometry.model` — :class:`RobotGeometry` (capsules per body, allowed pairs);
 * :mod:`kin.geometry.default` — :func:`default_geometry` along the DH offsets;
 * :mod:`kin.geometry.frames` — :func:`body_frames` (numpy);
-* :mod:`kin.geometry.motion` — :func:`reach_radii`, the Lipschitz bound of body motion.
+* :mod:`kin.geometry.motion` — :func:`reach_radii`, the Lipschitz bound of body motion;
+* :mod:`kin.geometry.enclose` — capsules enclosing boxes, cylinders, point sets and meshes, with their
+  over-estimate (robot files, URDF import, the bundled arms).
 """
 from kin.geometry.default import chain_length, default_geometry, default_radius
 from kin.geometry.frames import body_frames

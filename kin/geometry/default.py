@@ -12,7 +12,7 @@ from the last frame's origin to the tool point when the tool placement moves it.
 
 The radius, unless given, is 5 % of the chain's length (the sum of its DH offsets), at least 1 cm:
 ``RobotGeometry.radius`` states it and ``rmt geometry`` prints it.  Real machines deserve their own
-``[[geometry]]`` tables (see the robot-file documentation).
+a ``[geometry]`` table (see the robot-file documentation).
 """
 from __future__ import annotations
 
