@@ -9,6 +9,8 @@ the collision proofs and the compiled clearance kernel.
 * :mod:`kin.geometry.clearance` — :class:`ClearanceModel`, the signed clearance of the capsules
   against obstacles and each other (compiled kernel ``clearance.c``; numpy fallback
   :mod:`kin.geometry.clearance_numpy`), :class:`Contact`.
+* :mod:`kin.geometry.enclose` — capsules enclosing boxes, cylinders, point sets and meshes, with their
+  over-estimate (robot files, URDF import, the bundled arms).
 """
 from kin.geometry.clearance import ClearanceModel, Contact
 from kin.geometry.default import chain_length, default_geometry, default_radius

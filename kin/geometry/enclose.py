@@ -24,7 +24,9 @@ enclose — says how much room the replacement costs.
   that side: the cut face is bounded by the surface).  A cut is kept when it shrinks the capsules'
   union by at least ``gain`` per extra capsule and does not make the over-estimate worse.
 
-The over-estimate is computed, not assumed: the capsules' surface (the parts outside the other
+The over-estimate is computed, not assumed.  For a box or a cylinder it is the largest distance
+from the capsule's end to the solid (the side's is the rim's), a smooth function of two angles
+maximised on a dense grid and refined.  For meshes, the capsules' surface (the parts outside the other
 capsules) is cut into cells, the distance to the solid is evaluated at each cell's centre, and cells
 that could still hold a larger distance (centre value + the cell's half-size: distances are
 1-Lipschitz) are subdivided until the cell size is within the tolerance; the stated value is that
@@ -36,13 +38,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
 __all__ = ["Capsule", "Enclosure", "capsule_along", "enclose_box", "enclose_cylinder", "enclose_sphere",
            "enclose_points", "enclose_mesh", "over_estimate", "segment_distance", "surface_samples", "union_volume"]
 
-#: the over-estimate is an upper bound within this fraction of the enclosed solid's size (and 1 µm)
+#: the over-estimate of a mesh is an upper bound within this fraction of its size (and 1 µm)
 OVER_TOL = 1e-4
 
 
@@ -94,20 +97,6 @@ def segment_distance(P: np.ndarray, a, b) -> np.ndarray:
     dd = float(d @ d)
     t = np.zeros(len(P)) if dd == 0.0 else np.clip((P - a) @ d / dd, 0.0, 1.0)
     return np.linalg.norm(P - a - t[:, None] * d, axis=1)
-
-
-def _box_distance(half: np.ndarray):
-    def f(P):
-        q = np.abs(P) - half
-        return np.linalg.norm(np.maximum(q, 0.0), axis=1)
-    return f
-
-
-def _cylinder_distance(radius: float, half: float):
-    def f(P):
-        rho = np.hypot(P[:, 0], P[:, 1])
-        return np.hypot(np.maximum(rho - radius, 0.0), np.maximum(np.abs(P[:, 2]) - half, 0.0))
-    return f
 
 
 # ---- the over-estimate ---------------------------------------------------------------------------
@@ -305,26 +294,66 @@ def enclose_sphere(center, radius: float) -> Enclosure:
     return Enclosure((Capsule(c, c, float(radius)),), 0.0)
 
 
+def _cap_over(dist, R: float, L: float, grid: int = 241) -> float:
+    """The largest ``dist(φ, ψ)`` over the quarter of a capsule's end, φ from the rim (0) to the tip
+    (π/2), ψ about the axis (0 … π/2) — a dense grid, then a bounded local search from its best
+    point (the distance of a capsule's end to a box or a cylinder is smooth and has one summit per
+    quarter; the side is the rim's φ = 0)."""
+    from scipy.optimize import minimize
+    phi, psi = np.meshgrid(np.linspace(0, math.pi / 2, grid), np.linspace(0, math.pi / 2, grid), indexing="ij")
+    D = dist(phi.ravel(), psi.ravel())
+    k = int(np.argmax(D))
+    x0 = np.array([phi.ravel()[k], psi.ravel()[k]])
+    res = minimize(lambda x: -dist(np.array([x[0]]), np.array([x[1]]))[0], x0, method="L-BFGS-B",
+                   bounds=[(0, math.pi / 2), (0, math.pi / 2)], options={"ftol": 1e-15, "gtol": 1e-12})
+    return float(max(D[k], -res.fun))
+
+
 def enclose_box(size, pose=None) -> Enclosure:
     """A box of full edge lengths ``size`` (3,), centred on its frame ``pose`` (4×4, default identity):
-    the least-volume capsule along its longest edge, in the pose's parent frame."""
+    the least-volume capsule along its longest edge, in the pose's parent frame.  Its over-estimate is
+    the largest distance from the capsule's end (the side is its rim) to the box, found on a dense grid
+    and refined (to about 1e-12 m)."""
     half = np.asarray(size, dtype=float) / 2
-    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * half
-    u = np.eye(3)[int(np.argmax(half))]
-    cap = capsule_along(corners, u, point=np.zeros(3))
-    over = over_estimate([cap], _box_distance(half), float(2 * np.linalg.norm(half)))
-    return Enclosure((cap,), over).moved(_pose(pose))
+    return _enclose_box(tuple(float(h) for h in half)).moved(_pose(pose))
+
+
+@lru_cache(maxsize=4096)
+def _enclose_box(half: tuple[float, float, float]) -> Enclosure:
+    h = np.array(half)
+    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * h
+    axis = int(np.argmax(h))
+    cap = capsule_along(corners, np.eye(3)[axis], point=np.zeros(3))
+    h1, (h2, h3) = h[axis], np.delete(h, axis)
+    R, L = cap.radius, cap.length / 2
+
+    def dist(phi, psi):
+        rho = R * np.cos(phi)
+        across = np.hypot(np.maximum(np.abs(rho * np.cos(psi)) - h2, 0), np.maximum(np.abs(rho * np.sin(psi)) - h3, 0))
+        return np.hypot(np.maximum(L + R * np.sin(phi) - h1, 0), across)
+
+    return Enclosure((cap,), _cap_over(dist, R, L))
 
 
 def enclose_cylinder(radius: float, length: float, pose=None) -> Enclosure:
     """A cylinder of ``radius`` and ``length`` along the z axis of its frame ``pose`` (4×4), centred on
-    it: the least-volume capsule along its axis, in the pose's parent frame."""
+    it: the least-volume capsule along its axis, in the pose's parent frame; its over-estimate as for a
+    box."""
+    return _enclose_cylinder(float(radius), float(length)).moved(_pose(pose))
+
+
+@lru_cache(maxsize=4096)
+def _enclose_cylinder(radius: float, length: float) -> Enclosure:
     # every rim point lies at the same distance from the axis and the same height: four per rim do
     rims = np.array([[x, y, z] for z in (-length / 2, length / 2)
                      for x, y in ((radius, 0.0), (-radius, 0.0), (0.0, radius), (0.0, -radius))])
     cap = capsule_along(rims, (0.0, 0.0, 1.0), point=np.zeros(3))
-    over = over_estimate([cap], _cylinder_distance(radius, length / 2), math.hypot(2 * radius, length))
-    return Enclosure((cap,), over).moved(_pose(pose))
+    R, L, h = cap.radius, cap.length / 2, length / 2
+
+    def dist(phi, psi):
+        return np.hypot(np.maximum(L + R * np.sin(phi) - h, 0), np.maximum(R * np.cos(phi) - radius, 0))
+
+    return Enclosure((cap,), _cap_over(dist, R, L))
 
 
 # ---- point sets and meshes -------------------------------------------------------------------------

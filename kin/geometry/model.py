@@ -1,7 +1,7 @@
 """`RobotGeometry`: the collision capsules of a robot, per body, and the body pairs never checked.
 
-A chain carries its geometry (:attr:`kin.chain.Chain.geometry`, from the robot file's ``[[geometry]]``
-tables or a URDF's ``<collision>`` elements); a chain without any gets :func:`kin.geometry.default_geometry`,
+A chain carries its geometry (:attr:`kin.chain.Chain.geometry`, from the robot file's ``[geometry]``
+table or a URDF's ``<collision>`` elements); a chain without any gets :func:`kin.geometry.default_geometry`,
 capsules along its DH offsets with a stated radius.  Bodies: ``0`` base, ``k`` = DH frame k
 (1 … n), ``n + 1`` the tool (its frame is the tool frame of :meth:`kin.Robot.fk`).
 """
