@@ -53,7 +53,7 @@ def test_names_become_bodies(fanuc):
     assert r.self_pairs == tuple(r.geometry.checked_pairs(n))
     torch = [c for c in r.geometry.capsules if c.name == "torch"]
     assert len(torch) == 1 and torch[0].body == n + 1 and torch[0].b == pytest.approx((0, 0, 0.15))
-    assert r.geometry.source == "default + cell tool"
+    assert r.geometry.source == fanuc.geometry.source + " + cell tool"
     assert len(r.geometry.capsules) == len(fanuc.geometry.capsules) + 1
     checked = r.obstacle_pairs()
     assert (0, 0) not in checked and (2, 0) in checked and (n + 1, 1) not in checked and (3, 1) in checked

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import kin
-from kin.geometry import Obstacle, Shape, body_frames
+from kin.geometry import Obstacle, RobotGeometry, Shape, body_frames
 from planning.certify.collision import certify_collision
 from planning.collision import CollisionWorld
 from planning.validate import check_path
@@ -60,7 +60,8 @@ def _graze(robot, t_star: float, depth: float):
     u /= np.linalg.norm(u)
     r_ball = 0.002
     centre = p0 + u * (cap.radius + r_ball - depth)
-    world = CollisionWorld(robot, geo, [_sphere(centre, r_ball)], margin=0.0)
+    # the robot reduced to that one capsule, so that no other capsule reaches the ball
+    world = CollisionWorld(robot, RobotGeometry((cap,)), [_sphere(centre, r_ball)], margin=0.0)
     return np.array([a, b]), world
 
 

@@ -21,10 +21,10 @@ name = "forearm box"
 [[obstacle]]
 name = "box"
 type = "box"
-size = [100, 60, 200]
-xyz = [200, 0, 700]
+size = [60, 60, 200]
+xyz = [300, 0, 700]
 """
-BOX_LO, BOX_HI = np.array([0.15, -0.03, 0.6]), np.array([0.25, 0.03, 0.8])
+BOX_LO, BOX_HI = np.array([0.27, -0.03, 0.6]), np.array([0.33, 0.03, 0.8])
 START, GOAL = ["-60", "15", "0", "0", "-70", "0"], ["60", "15", "0", "0", "-70", "0"]
 
 
