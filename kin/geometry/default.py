@@ -11,7 +11,7 @@ origin.  The base gets a ball of 1.5 radii at frame 0's origin; the tool a capsu
 from the last frame's origin to the tool point when the tool placement moves it.
 
 The radius, unless given, is 5 % of the chain's length (the sum of its DH offsets), at least 1 cm:
-``RobotGeometry.radius`` states it and ``rmt geometry`` prints it.  Real machines deserve a
+``RobotGeometry.radius`` states it (and its ``source`` says "default").  Real machines deserve a
 ``[geometry]`` table of their own (see the robot-file documentation).
 """
 from __future__ import annotations

@@ -52,8 +52,8 @@ class RobotGeometry:
 
     def checked_pairs(self, n: int) -> list[tuple[int, int]]:
         """Body pairs (i < j) checked for self-collision for a chain of ``n`` joints: both hold
-        capsules, not adjacent (|i − j| > 1; the tool n + 1 counts as adjacent to n and n − 1 … no:
-        only to n), not in :attr:`allowed`."""
+        capsules, not adjacent (|i − j| > 1: the tool n + 1 is adjacent to link n only), not in
+        :attr:`allowed`."""
         bs = self.bodies()
         return [(i, j) for a, i in enumerate(bs) for j in bs[a + 1:]
                 if j - i > 1 and (i, j) not in self.allowed]
