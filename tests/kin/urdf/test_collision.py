@@ -10,6 +10,7 @@
 """
 from __future__ import annotations
 
+import dataclasses
 import zlib
 from pathlib import Path
 
@@ -144,11 +145,12 @@ rpy = [0.1, 0.2, 0.3]
 
 
 def chains():
-    text = kin.robotfile.dumps_robot(kin.load_chain("puma560"))
+    bare = dataclasses.replace(kin.load_chain("puma560"), geometry=None)        # the default capsules
+    text = kin.robotfile.dumps_robot(bare)
     shaped = kin.robotfile.with_units(kin.loads_robot(kin.robotfile.dumps_robot(
-        kin.robotfile.with_units(kin.load_chain("puma560"), "m", "rad")) + GEOMETRY), "mm", "deg")
+        kin.robotfile.with_units(bare, "m", "rad")) + GEOMETRY), "mm", "deg")
     assert "[geometry]" not in text
-    return {"puma560 default": kin.load_chain("puma560"), "puma560 shapes": shaped,
+    return {"puma560 default": bare, "puma560 shapes": shaped,
             "stanford modified": kin.load_chain("stanford_arm").to_modified(), "ur5e": kin.load_chain("ur5e")}
 
 
