@@ -27,6 +27,7 @@ import studies
 from design.coverage import coverage
 from design.task import load_task
 from design.task.model import Targets
+from kin.errors import RmtError
 from kin.geometry import body_frames
 from planning.cell import load_cell
 from planning.collision import collision_world
@@ -491,7 +492,7 @@ def choose_park(robot, world, windows, goal) -> tuple[np.ndarray, str]:
     best = None
     for j1, j2, j3 in PARK_CANDIDATES:
         q = np.radians([j1, j2, j3, 0.0, 90.0 * sign, 0.0])
-        if world.clearance(q) < 0.02 or windows.contains(q[None])[0]:
+        if cell_only.clearance(q) < 0.02 or world.clearance(q) <= 0 or windows.contains(q[None])[0]:
             continue
         Q, _, _ = densify(np.array([q, goal]), robot.chain.revolute_mask)
         c = np.asarray(cell_only.clearance(Q))
@@ -505,7 +506,7 @@ def choose_park(robot, world, windows, goal) -> tuple[np.ndarray, str]:
         if best is None or key < best[0]:
             best = (key, q)
     if best is None:
-        raise RuntimeError("no park candidate is clear of the cell and outside the windows")
+        raise RmtError("no park candidate is clear of the cell and outside the windows")
     return best[1], rules[best[0][0]] + f" ({len(PARK_CANDIDATES)} candidates; the deepest of those)"
 
 

@@ -73,7 +73,7 @@ def skeleton(puma: kin.Robot) -> kin.Chain:
     c = puma.chain
     d4 = float(c.joints[3].d)
     return replace(c, name="puma560_arm", title="PUMA 560 arm (joints 1–3, tool point = wrist centre)",
-                   joints=c.joints[:3], tool=kin.chain.Placement(xyz=(0.0, 0.0, d4)))
+                   joints=c.joints[:3], tool=kin.chain.Placement(xyz=(0.0, 0.0, d4)), geometry=None)
 
 
 def dexterity(robot: kin.Robot, Q: np.ndarray, length: float) -> dict:
