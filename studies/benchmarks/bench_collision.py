@@ -386,8 +386,9 @@ def _targets(results: list[dict]) -> list[dict]:
     return out
 
 
-def run(quick: bool = False, log=None, geometry: str = "robot", robots=ROBOTS) -> dict:
+def run(quick: bool = False, log=None, geometry: str = "robot", robots=None) -> dict:
     t0 = time.perf_counter()
+    robots = ROBOTS if robots is None else robots
     with ForeignLoad() as load:
         results = [bench_robot(name, quick, geometry, log) for name in robots]
     unreliable = []
