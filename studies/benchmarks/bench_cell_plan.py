@@ -11,13 +11,16 @@ imported from example-robot-data's URDF, see :func:`studies.benchmarks.bench_col
 and windows of margin :data:`MARGIN` rad (:func:`planning.windows.build_windows`).
 
 Queries (:data:`QUERIES` per scene and robot, fixed seeds), drawn as MotionBenchMaker draws its
-problems, from grasp-like poses solved by IK: the goal's tool point in the scene's target region
-(between the cans, in a compartment, inside the cage or the box) with the tool pointing in the
-scene's approach direction (down, or into the shelf), the start's tool point in a "ready" region
-above the table; both valid (inside the limits, outside every window, clear of the cell); start
-and goal not separated by a window (:func:`planning.certify.free_cells`: such a query has no
-answer and ``plan`` refuses it at once); among the candidate pairs those whose straight joint-space
-line collides are preferred (the share is reported, and the share crossing a window).
+problems, from grasp-like poses solved by IK (:func:`draw_queries`): starts are valid configurations
+whose tool point lies in a "ready" region above the table (:data:`READY`, tool pointing down); goals
+put the tool point in the scene's target region (between the cans, in a compartment, inside the cage
+or the box) with the tool along the scene's approach direction (down, or into the shelf), solved by
+IK warm-started at a random start (the branch nearest it, as a user picks the IK solution nearest
+the current configuration).  Both are valid (inside the limits, outside every window, clear of the
+cell and of the robot itself); pairs that a window separates (:func:`planning.certify.free_cells`:
+no answer exists, ``plan`` refuses them at once) or that lie on two sides of a formula window's
+singular surface are dropped; the pairs whose straight joint-space line collides come first (the
+share is reported, and the share crossing a window).
 
 Each query is planned with ``plan(robot, start, goal, windows, world=world, planner="RRTConnect",
 time_limit=TIME_LIMIT)``; the benchmark records success, the wall time of the call (including its
