@@ -224,6 +224,16 @@ def urdf_mesh_scene(world, urdf: str | Path, package_dir: str | Path, link_bodie
                    world.chain.n, notes)
 
 
+def one_obstacle(world, name: str):
+    """A view of ``world`` with only its obstacle ``name`` and no self pairs (what
+    :func:`urdf_mesh_scene` reads: chain, obstacles, pairs, base) — the set-up of a robot against
+    one box."""
+    from types import SimpleNamespace
+
+    (ob,) = [o for o in world.obstacles if o.name == name]
+    return SimpleNamespace(chain=world.chain, obstacles=(ob,), pairs=(), base=world.base)
+
+
 def tighten(scene: PinScene, tolerance: float = 1e-12) -> PinScene:
     """Tighten coal's GJK and EPA tolerances of every pair (default 1e-6) so that its distances can
     serve as the reference of an agreement check (not for timing: a user keeps the defaults)."""
