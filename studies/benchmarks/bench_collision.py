@@ -25,7 +25,8 @@ are what the import gives) and the cell's allowed pairs (:func:`planning.collisi
    The pairs are exactly rmtkit's (:mod:`studies.benchmarks.collision_peers`).  Ratios compare 1
    thread with 1 thread; the peers' collision calls answer less (a yes/no) than a clearance;
 3. agreement of rmtkit's clearance with coal's capsule distances (b), per configuration, obstacles and
-   self pairs apart;
+   self pairs apart (coal's GJK/EPA tolerances tightened to 1e-10; a pair where coal fails to converge
+   and reports −DBL_MAX is left out and counted);
 4. enclosure (Panda): on uniform configurations and on near-contact ones (rmtkit's obstacle
    clearance in (0, 5 cm]), whenever rmtkit says clear (clearance > 0) coal's exact test between the
    URDF's collision meshes and the obstacles (and between the meshes of the checked self pairs) must
@@ -227,7 +228,7 @@ def _version(dist: str) -> str:
 # ---- 3. agreement on capsules ------------------------------------------------------------
 def agreement(world, count: int) -> dict:
     """rmtkit's exact clearance (cap inf) against coal's distances between the same capsules and
-    obstacles (GJK/EPA tolerances tightened to 1e-12, :func:`collision_peers.tighten`), per
+    obstacles (GJK/EPA tolerances tightened to 1e-10, :func:`collision_peers.tighten`), per
     configuration: the obstacle minimum and the self minimum apart."""
     if _try_import("pinocchio")[0] is None:
         return {"skipped": "pinocchio not importable"}
@@ -246,9 +247,10 @@ def agreement(world, count: int) -> dict:
         if not mask.any():
             out[key] = None
             continue
-        theirs = D[:, mask].min(axis=1)
+        coal_failed = np.isnan(D[:, mask]).any(axis=1)      # left out: coal gave no distance
+        ours, theirs = ours[~coal_failed], D[~coal_failed][:, mask].min(axis=1)
         both = (ours > 0) & (theirs > 0)
-        out[key] = {"both_clear": int(both.sum()),
+        out[key] = {"both_clear": int(both.sum()), "coal_failed": int(coal_failed.sum()),
                     "max_abs_diff_m": float(np.abs(ours - theirs)[both].max()) if both.any() else math.nan,
                     "max_ours_minus_coal_m": float((ours - theirs)[both].max()) if both.any() else math.nan,
                     "sign_mismatches": int(((ours > 0) != (theirs > 0)).sum())}
@@ -287,18 +289,18 @@ def enclosure(world, mesh_scene, count: int) -> dict:
                 if not m.any():
                     continue
                 coal_col = C[:, m].any(axis=1)
-                coal_d = D[:, m].min(axis=1)
+                coal_d = np.fmin.reduce(D[:, m], axis=1)       # coal's failures (NaN) left out
                 v = (ours_b[:, b] > 0) & coal_col
                 viol_any |= v
-                clear = ours_b[:, b] > 0
+                clear = (ours_b[:, b] > 0) & ~coal_col & np.isfinite(coal_d)
                 short = (ours_b[:, b] - np.minimum(coal_d, cap))[clear]
                 per_body[names[b]] = {"violations": int(v.sum()),
                                       "max_ours_minus_coal_m": float(short.max()) if len(short) else math.nan}
             ours = ours_b.min(axis=1)
-            coal_d = np.minimum(D[:, mask].min(axis=1), cap)
+            coal_d = np.minimum(np.fmin.reduce(D[:, mask], axis=1), cap)
             coal_col = C[:, mask].any(axis=1)
             clear = ours > 0
-            over = (coal_d - ours)[clear & ~coal_col]
+            over = (coal_d - ours)[clear & ~coal_col & np.isfinite(coal_d)]
             rec[key] = {"ours_clear": int(clear.sum()), "coal_collides": int(coal_col.sum()),
                         "violations": int(viol_any.sum()),
                         "violations_min_clearance": int((clear & coal_col).sum()),
@@ -482,7 +484,8 @@ def format_report(R: dict) -> str:
             for k in ("obstacles", "self"):
                 a = ag.get(k)
                 if a:
-                    L.append(f"     {k:9s}: both clear {a['both_clear']}, max |rmtkit − coal| "
+                    L.append(f"     {k:9s}: both clear {a['both_clear']} (coal failed on {a['coal_failed']}), "
+                             f"max |rmtkit − coal| "
                              f"{a['max_abs_diff_m']:.2e} m, max (rmtkit − coal) {a['max_ours_minus_coal_m']:.2e} m, "
                              f"sign mismatches {a['sign_mismatches']}")
         enc = r["enclosure"]
@@ -508,7 +511,8 @@ def format_report(R: dict) -> str:
                             worst[b] = max(worst.get(b, -math.inf), v["max_ours_minus_coal_m"])
             short = {b: _mm(v) for b, v in worst.items() if v > AGREE_TOL}
             if short:
-                L.append(f"     capsules short of the meshes by up to (rmtkit − coal, per body): {short}")
+                L.append("     capsules short of the meshes, where coal says clear (rmtkit − coal, largest per body): "
+                         f"{short}")
         L.append("")
     L.append("targets")
     for t in R["targets"]:

@@ -45,6 +45,12 @@ def erd_share() -> Path | None:
     return path if (path / PANDA_URDF).is_file() else None
 
 
+def failed(d: np.ndarray) -> np.ndarray:
+    """Where coal's distance is not a distance: not finite, or −DBL_MAX (its answer when GJK/EPA
+    did not converge)."""
+    return ~np.isfinite(d) | (d < -1e300)
+
+
 def _z_to(d: np.ndarray) -> np.ndarray:
     """A rotation taking the z axis to the unit vector ``d``."""
     z = d / np.linalg.norm(d)
@@ -132,11 +138,13 @@ class PinScene:
         return self.pair_other >= 0
 
     def distances(self, x) -> np.ndarray:
-        """Every pair's distance (coal's ``min_distance``, m) at configuration ``x``."""
+        """Every pair's distance (coal's ``min_distance``, m) at configuration ``x``; NaN where coal
+        failed (:func:`failed`)."""
         import pinocchio as pin
 
         pin.computeDistances(self.model, self.data, self.gmodel, self.gdata, self.q(x))
-        return np.array([r.min_distance for r in self.gdata.distanceResults])
+        d = np.array([r.min_distance for r in self.gdata.distanceResults])
+        return np.where(failed(d), np.nan, d)
 
     def collisions(self, x) -> np.ndarray:
         """Every pair's collision flag (coal's exact test) at configuration ``x``."""
@@ -234,9 +242,10 @@ def one_obstacle(world, name: str):
     return SimpleNamespace(chain=world.chain, obstacles=(ob,), pairs=(), base=world.base)
 
 
-def tighten(scene: PinScene, tolerance: float = 1e-12) -> PinScene:
+def tighten(scene: PinScene, tolerance: float = 1e-10) -> PinScene:
     """Tighten coal's GJK and EPA tolerances of every pair (default 1e-6) so that its distances can
-    serve as the reference of an agreement check (not for timing: a user keeps the defaults)."""
+    serve as the reference of an agreement check (not for timing: a user keeps the defaults).  At
+    1e-12 GJK sometimes fails to converge and coal reports −DBL_MAX (:func:`failed`)."""
     for req in scene.gdata.distanceRequests:
         req.gjk_tolerance = tolerance
         req.epa_tolerance = tolerance
