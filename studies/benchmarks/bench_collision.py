@@ -112,8 +112,9 @@ def _rate(times: list[float], count: int) -> dict:
 def load_robot(name: str, geometry: str = "robot"):
     """The robot whose capsules are benchmarked: the bundled one (its own geometry, whatever it is),
     or with ``geometry="urdf"`` the Panda imported from example-robot-data's URDF (its capsules are
-    what :func:`kin.urdf.import_urdf` reads from the URDF's collision elements).  Raises
-    RuntimeError when that is not available."""
+    what :func:`kin.urdf.import_urdf` reads from the URDF's collision elements).  Other robots keep
+    their bundled geometry (example-robot-data ships the UR5, UR3 and UR10 of the CB3 series, not
+    the UR5e).  Raises RuntimeError when the import gives no collision geometry."""
     if geometry == "robot" or name != "franka_panda":
         return kin.load_robot(name)
     from kin.urdf import import_urdf
