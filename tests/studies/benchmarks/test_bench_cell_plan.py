@@ -48,6 +48,7 @@ def test_queries_are_valid_and_in_the_region(ur5e_box):
         assert checker.reason(list(a)) is None and checker.reason(list(b)) is None
         assert cells.separation(a, b) is None
         assert (bench.aspect(windows, a[None]) == bench.aspect(windows, b[None])).all()
+        assert (bench.slab_cells(windows, a[None]) == bench.slab_cells(windows, b[None])).all()
         T = world.base @ robot.fk(b)
         assert np.all(T[:3, 3] >= np.array(region.lo) - 1e-6) and np.all(T[:3, 3] <= np.array(region.hi) + 1e-6)
         np.testing.assert_allclose(T[:3, 2], region.approach, atol=1e-6)
@@ -56,6 +57,16 @@ def test_queries_are_valid_and_in_the_region(ur5e_box):
     # colliding straight lines come first
     flags = [q["straight_collides"] for q in queries]
     assert flags == sorted(flags, reverse=True)
+
+
+def test_slab_cells_number_the_gaps_between_intervals():
+    robot = kin.load_robot("ur5e")
+    windows = build_windows(robot, margin=bench.MARGIN)
+    Q = np.zeros((3, 6))
+    Q[:, 2] = [-2.0, 1.0, 2.0]           # the elbow q3 on both sides of its window about 0 (1 and 2: one gap)
+    cells = bench.slab_cells(windows, Q)
+    elbow = [w.name for w in windows.windows if w.is_interval].index("elbow: sin(q3)")
+    assert cells[0, elbow] != cells[1, elbow] and cells[1, elbow] == cells[2, elbow]
 
 
 def test_recheck_catches_a_path_through_an_obstacle(ur5e_box):
