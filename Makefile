@@ -34,6 +34,8 @@ bench: $(STAMP)
 	$(BIN)/python -m studies.benchmarks.bench_kin
 	$(BIN)/python -m studies.benchmarks.bench_ik
 	$(BIN)/python -m studies.benchmarks.bench_plan
+	$(BIN)/python -m studies.benchmarks.bench_collision
+	$(BIN)/python -m studies.benchmarks.bench_cell_plan
 	$(BIN)/python -m studies.benchmarks.bench_startup
 	$(BIN)/python -m studies.benchmarks.bench_timing
 	$(BIN)/python -m studies.benchmarks.bench_design
