@@ -9,8 +9,9 @@ body k's capsules moves at most D_k = Σ_j R[j, k]·|Δq_j|·(t1 − t0).  Clear
 is then D_k-Lipschitz in the piece, so with c0, c1 body k's obstacle clearances at its ends, for
 any s in the piece c(s) ≥ max(c0 − s·D_k, c1 − (1 − s)·D_k) ≥ (c0 + c1 − D_k)/2: the piece is
 proven clear of every obstacle for body k when c0 + c1 − 2m > D_k (m the required clearance).
-Against another body l both move: the bound is D_k + D_l, and with every self pair counted for
-both bodies, D_k + max over k's partners l of D_l.  A piece that is not settled is halved (its
+Against another body both move, but joints before both move them together: a pair i < j changes
+its distance by at most Σ_{l = i+1}^{j} R[l, j]·|Δq_l|, and body k's self bound is the largest over
+its pairs.  A piece that is not settled is halved (its
 midpoint evaluated); a state whose clearance is ≤ m is a violation.  Pieces still open after
 ``max_depth`` halvings or beyond the evaluation budget are reported as unproven, never as clear.
 
@@ -68,29 +69,38 @@ class CollisionProof:
 
 
 def _motion(world, dq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Per piece (S, B): how far body k's points can move (obstacle bound) and the self bound."""
-    D = np.abs(dq) @ world.radii                              # (S, B)
-    if world.partners.any():
-        Dp = np.where(world.partners[None, :, :], D[:, None, :], 0.0).max(axis=2)
-    else:
-        Dp = np.zeros_like(D)
-    return D, D + Dp
+    """Per piece (S, B): how far body k's points can move (the obstacle bound), and how far they can
+    move relative to any body they are checked against (the self bound).
+
+    Two bodies i < j are moved rigidly together by joints 1 … i; only joints i + 1 … j move body j
+    relative to body i, so the distance of a pair changes by at most Σ_{l = i+1}^{j} R[l, j]·|Δq_l|
+    (body i stands still in its own frame).  Body k's self bound is the largest of its pairs'."""
+    A = np.abs(dq)
+    D = A @ world.radii                                       # (S, B)
+    Ds = np.zeros_like(D)
+    n = A.shape[1]
+    for i, j in world.pairs:
+        rows = slice(i, min(j, n))                            # joints i + 1 … min(j, n)
+        d = A[:, rows] @ world.radii[rows, j]
+        np.maximum(Ds[:, i], d, out=Ds[:, i])
+        np.maximum(Ds[:, j], d, out=Ds[:, j])
+    return D, Ds
 
 
 def certify_collision(world, path, max_depth: int = MAX_DEPTH, max_evals: int = MAX_EVALS,
-                      stop_at_first: bool = False) -> CollisionProof:
+                      stop_at_first: bool = False, explain: bool = True) -> CollisionProof:
     """Prove every segment of ``path`` (M, n), SI, clear of ``world`` (a
     :class:`planning.collision.CollisionWorld`) — or find the first colliding state.
 
     ``stop_at_first``: return as soon as any violation or unproven piece is known (what a motion
-    validator needs: a yes or no).
+    validator needs: a yes or no); ``explain=False`` (with it) leaves the violation unnamed and unmeasured.
     """
     P = np.atleast_2d(np.asarray(path, dtype=float))
     if P.size == 0:
         return CollisionProof(True, None)
     m = world.margin
     if stop_at_first and len(P) == 2:
-        fast = _motion_in_c(world, P, max_depth, max_evals)
+        fast = _motion_in_c(world, P, max_depth, max_evals, explain)
         if fast is not None:
             return fast
     obs, slf = world.per_body(P)
@@ -163,7 +173,7 @@ def certify_collision(world, path, max_depth: int = MAX_DEPTH, max_evals: int = 
     return _result(world, P, hits, sorted(unproven), bound, min_s, min_i, evals)
 
 
-def _motion_in_c(world, P: np.ndarray, max_depth: int, max_evals: int) -> CollisionProof | None:
+def _motion_in_c(world, P: np.ndarray, max_depth: int, max_evals: int, explain: bool) -> CollisionProof | None:
     """One motion, yes or no, by the kernel's C version of the same proof (None: not available)."""
     D_obs, D_self = _motion(world, (P[1] - P[0])[None])
     r = world.model.prove_motion(P[0], P[1], D_obs[0], D_self[0], world.margin, max_depth, max_evals)
@@ -175,6 +185,8 @@ def _motion_in_c(world, P: np.ndarray, max_depth: int, max_evals: int) -> Collis
     if status == -1:
         return CollisionProof(False, None, [0])
     q = P[0] + t * (P[1] - P[0])
+    if not explain:                 # a motion validator needs the verdict only
+        return CollisionProof(False, Collision(0, t, q, -1, -1, math.nan, "in collision"))
     return _result(world, P, [(0, t, q)], [], -math.inf, math.inf, -1, 0)
 
 

@@ -189,7 +189,8 @@ class JointSpaceChecker:
             for lo, hi in ivs:
                 if lo <= v and u <= hi:
                     return False
-        if self.world is not None and not certify_collision(self.world, [a, b], stop_at_first=True).proven:
+        if self.world is not None and \
+                not certify_collision(self.world, [a, b], stop_at_first=True, explain=False).proven:
             return False
         if not (self._predicate_windows or self.sigma_floor is not None or self.boxes):
             return True

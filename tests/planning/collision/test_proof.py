@@ -151,3 +151,21 @@ def test_the_c_motion_proof_agrees_with_the_batch_proof(fanuc):
         seen.add(fast.proven)
     assert seen == {True, False}
     assert world.model.backend == "compiled"
+
+
+@pytest.mark.parametrize("name", ["fanuc_lrmate200id", "franka_panda", "ur5e"])
+def test_self_clearance_changes_no_faster_than_the_relative_bound(name):
+    """Each body's self clearance (min over its pairs) changes along a short motion by no more than
+    the bound of the joints between the bodies of its pairs (finite differences, 400 motions)."""
+    from planning.certify.collision import _motion
+    robot = kin.load_robot(name)
+    world = CollisionWorld(robot)
+    rng = np.random.default_rng(2)
+    Q = robot.random_configurations(400, seed=8)
+    dQ = rng.normal(size=Q.shape) * 1e-4
+    _, s0 = world.per_body(Q)
+    _, s1 = world.per_body(Q + dQ)
+    _, Ds = _motion(world, dQ)
+    live = (s0 < world.cap) & (s1 < world.cap)
+    assert live.any()
+    assert np.all(np.abs(s1 - s0)[live] <= Ds[live] * (1 + 1e-6) + 1e-12)
