@@ -102,3 +102,40 @@ def test_forearm_box_plan_is_proven_and_coal_agrees(tmp_path, capsys):
                 worst = min(worst, res.min_distance)
     assert worst > 0, f"coal finds the exported robot {worst} m from the box"
     assert worst == pytest.approx(c["min_clearance"], abs=2e-3)
+
+
+def test_a_wrist_folded_into_the_base_names_both_links(capsys):
+    """`rmt clearance` on a configuration that folds the wrist down into the base: exit 1 and one line
+    naming the two bodies; coal agrees that those two bodies' capsules overlap."""
+    from kin.geometry import body_frames
+    q = ["-29", "108", "-41", "64", "-24", "-169"]
+    rc, out, _ = _run(["clearance", "fanuc_lrmate200id", *q, "--json"], capsys)
+    d = json.loads(out)
+    assert rc == 1 and not d["clear"] and d["clearance"] < 0
+    assert {d["body"], d["other"]} == {"base", "link 5 (J5)"}
+    robot = kin.load_robot("fanuc_lrmate200id")
+    F = body_frames(robot.chain, robot.chain.to_si(np.array([float(x) for x in q]))[None])[0]
+
+    def objects(body):
+        out = []
+        for c in robot.geometry.capsules:
+            if c.body == body:
+                a, b = (F[body] @ [*c.a, 1])[:3], (F[body] @ [*c.b, 1])[:3]
+                L = float(np.linalg.norm(b - a))
+                z = (b - a) / L if L > 0 else np.array([0.0, 0.0, 1.0])
+                x = np.cross(z, [1.0, 0, 0]) if abs(z[0]) < 0.9 else np.cross(z, [0, 1.0, 0])
+                x /= np.linalg.norm(x)
+                R = np.column_stack([x, np.cross(z, x), z])
+                out.append(coal.CollisionObject(coal.Capsule(c.radius, L), coal.Transform3s(R, 0.5 * (a + b))))
+        return out
+
+    deepest = min(_coal_distance(a, b) for a in objects(0) for b in objects(5))
+    assert deepest < 0 and deepest == pytest.approx(d["clearance"], abs=1e-4)
+
+
+def _coal_distance(a, b) -> float:
+    req = coal.DistanceRequest()
+    req.enable_signed_distance = True
+    res = coal.DistanceResult()
+    coal.distance(a, b, req, res)
+    return res.min_distance
