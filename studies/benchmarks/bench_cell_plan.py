@@ -347,6 +347,11 @@ def run(quick: bool = False, log=None, geometry: str = "robot", profile: bool = 
     return R
 
 
+def _ms(x) -> str:
+    """Seconds as milliseconds, or n/a (no successful query to time)."""
+    return "n/a" if x is None else f"{1e3 * x:.1f} ms"
+
+
 def format_report(R: dict) -> str:
     env = R["environment"]
     L = [f"bench_cell_plan — {R['planner']}, {R['time_limit_s']:g} s limit, windows of margin {R['margin_rad']:g} rad, "
@@ -378,7 +383,7 @@ def format_report(R: dict) -> str:
                 continue
             L.append(f"      success {100 * s['success_rate']:.0f} % ({s['returned_paths']}/{s['queries']}); time "
                      f"median {1e3 * s['median_time_s']:.1f} ms, p95 {1e3 * s['p95_time_s']:.1f} ms (successes: median "
-                     f"{1e3 * s['median_time_success_s']:.1f} ms, p95 {1e3 * s['p95_time_success_s']:.1f} ms)"
+                     f"{_ms(s['median_time_success_s'])}, p95 {_ms(s['p95_time_success_s'])})"
                      f"{'' if S['load']['reliable'] else '  UNRELIABLE'}")
             if s["returned_paths"]:
                 L.append(f"      proven {100 * s['proven_rate']:.0f} %; re-checks: check_path {s['check_path_valid']}/"
