@@ -13,6 +13,7 @@ import pytest
 import trimesh
 
 import kin
+from design.task import load_task
 from planning.cell import load_cell
 from planning.collision import collision_world
 from tests.dh_numpy import dh_standard
@@ -145,11 +146,14 @@ def test_frames_are_the_robot_files(world):
     assert frames(np.zeros(6))[-1][:3, 3] == pytest.approx([0.465, 0.0, 0.8 + 0.695])    # docs/cells.md
 
 
-def test_the_design_task_is_out_of_the_lrmates_reach(run):
-    # studies/tasks/fanuc_weld_cell.toml: targets x 900 … 1500 mm; the LR Mate reaches at most
-    # a1 + a2 + √(a3² + d4²) + d6 from joint 1's axis
-    reach = 0.05 + 0.33 + math.hypot(0.035, 0.335) + 0.08
-    assert reach < 0.9
+def test_the_design_task_is_out_of_the_lrmates_reach(run, world):
+    # the LR Mate reaches at most |a1| + |a2| + √(a3² + d4²) + |d6| from joint 1's axis (its robot file's
+    # DH rows); every target of studies/tasks/fanuc_weld_cell.toml lies farther from that axis
+    a, _, d, _ = world.robot.chain.dh_table().T
+    reach = abs(a[0]) + abs(a[1]) + math.hypot(a[2], d[3]) + abs(d[5])
+    assert reach == pytest.approx(0.05 + 0.33 + math.hypot(0.035, 0.335) + 0.08, abs=1e-12)
+    targets = load_task(ROOT / "studies" / "tasks" / "fanuc_weld_cell.toml").targets.positions
+    assert np.hypot(targets[:, 0], targets[:, 1]).min() > reach
     t = run.results["cell"]["design_task"]
     assert t["targets"] == 27 and t["reached_by_lrmate"] == 0
 
