@@ -77,13 +77,10 @@ def _motion(world, dq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     (body i stands still in its own frame).  Body k's self bound is the largest of its pairs'."""
     A = np.abs(dq)
     D = A @ world.radii                                       # (S, B)
-    Ds = np.zeros_like(D)
-    n = A.shape[1]
-    for i, j in world.pairs:
-        rows = slice(i, min(j, n))                            # joints i + 1 … min(j, n)
-        d = A[:, rows] @ world.radii[rows, j]
-        np.maximum(Ds[:, i], d, out=Ds[:, i])
-        np.maximum(Ds[:, j], d, out=Ds[:, j])
+    if not len(world.pairs):
+        return D, np.zeros_like(D)
+    Dp = A @ world.pair_radii.T                               # (S, P): each pair's bound
+    Ds = np.where(world.pair_bodies[None], Dp[:, :, None], 0.0).max(axis=1)
     return D, Ds
 
 

@@ -50,15 +50,20 @@ class CollisionWorld:
         self.cap = max(float(cap), 2 * self.margin + 0.1)
         n = self.chain.n
         self.body_names = body_names(self.chain)
-        self.pairs = self.geometry.checked_pairs(n)
-        self.model = ClearanceModel(self.chain, self.geometry, self.obstacles, base=self.base,
-                                    self_pairs=self.pairs, cap=self.cap)
+        self.model = ClearanceModel(self.chain, self.geometry, self.obstacles, base=self.base, cap=self.cap)
+        #: the body pairs (i < j) checked against each other
+        self.pairs = self.model.self_pairs
         self.radii = reach_radii(self.chain, self.geometry)              # (n, B)
-        B = n + 2
-        partners = np.zeros((B, B), bool)
-        for i, j in self.pairs:
-            partners[i, j] = partners[j, i] = True
-        self.partners = partners
+        # the motion bound of each pair (see planning.certify.collision): only joints i + 1 … j move
+        # body j relative to body i, so pair (i, j) gets R[l, j] for those joints and 0 for the others;
+        # and which bodies each pair counts for
+        P, B = len(self.pairs), n + 2
+        self.pair_radii = np.zeros((P, n))
+        self.pair_bodies = np.zeros((P, B), bool)
+        for p, (i, j) in enumerate(self.pairs):
+            rows = slice(i, min(j, n))
+            self.pair_radii[p, rows] = self.radii[rows, j]
+            self.pair_bodies[p, [i, j]] = True
 
     def __repr__(self) -> str:
         return (f"CollisionWorld({self.chain.name!r}, {len(self.obstacles)} obstacles, "
