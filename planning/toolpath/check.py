@@ -220,8 +220,8 @@ def _collisions(world, Q: np.ndarray, reachable: np.ndarray):
     text: dict[int, str] = {}
     if reachable.any():
         idx = np.flatnonzero(reachable)
-        clearance[idx] = world.clearance(Q[idx])
-        near = world.nearest(Q[idx])
+        near = world.nearest(Q[idx])                 # the minimum and who gives it, in one pass
+        clearance[idx] = near.clearance
         for k, i in enumerate(idx):
             if clearance[i] <= world.margin:
                 flags[i] = True
