@@ -536,3 +536,28 @@ def test_api_start_q_beyond_the_evaluators_range_refused():
     tp = load_toolpath(SCARA_CSV, scara)
     with pytest.raises(kin.ConfigurationError, match=r"start_q: prismatic joint 3 = 1e\+308 m is beyond ±1e\+06 m"):
         validate_toolpath(scara, tp, start_q=[0.1, 0.2, 1e308])
+
+
+def test_a_work_cell_flags_waypoints_and_motions_in_collision():
+    """A tool path taught along a joint motion of the LR Mate; a box placed where the forearm passes
+    half-way: the waypoints there are flagged ``collision`` (the world's own clearance agrees), the
+    others are clear, and the per-waypoint clearance is the kernel's."""
+    from kin.geometry import Obstacle, Shape
+    from planning.collision import CollisionWorld
+
+    robot = kin.load_robot("fanuc_lrmate200id")
+    a, b = np.radians([-30, 15, 0, 0, -70, 0]), np.radians([30, 15, 0, 0, -70, 0])
+    Q = a + np.linspace(0, 1, 61)[:, None] * (b - a)
+    T = np.eye(4)
+    T[:3, 3] = (0.3, 0.0, 0.7)
+    world = CollisionWorld(robot, obstacles=[Obstacle("box", (Shape("box", (0.03, 0.03, 0.1), T),))])
+    c = world.clearance(Q)
+    assert c[0] > 0 and c[-1] > 0 and c.min() < 0
+    report = validate_toolpath(robot, ToolPath.from_poses(robot.fk(Q)), start_q=a, world=world)
+    assert report.reachable.all()
+    np.testing.assert_allclose(report.clearance, world.clearance(report.q), atol=0)
+    hit = report.flags["collision"]
+    assert hit.any() and not hit[0] and not hit[-1]
+    assert np.array_equal(hit & (report.clearance <= 0), report.clearance <= 0)
+    assert report.first_problem.kind == "collision" and "obstacle 'box'" in report.first_problem.detail
+    assert report.collision_check == "proven" and report.summary()["min_clearance"] == pytest.approx(c.min(), abs=2e-3)
