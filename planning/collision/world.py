@@ -9,6 +9,7 @@ a state needs to count as clear (m, ≥ 0): 0 means "not touching".
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -103,14 +104,22 @@ class CollisionWorld:
         return f"{what}: {clearance * 1e3:.4g} mm apart"
 
 
-def collision_world(robot, cell=None, margin: float = 0.0, obstacles=()) -> CollisionWorld:
+def collision_world(robot, cell=None, margin: float = 0.0, obstacles=(), keep_out=()) -> CollisionWorld:
     """The robot in ``cell`` (a :class:`planning.cell.Cell`, or a path to a cell file; None: the
-    robot alone, self-collision only), plus further ``obstacles``; ``margin``: the clearance a
+    robot alone, self-collision only), plus further ``obstacles`` (world frame) and ``keep_out``
+    boxes (:class:`planning.ompl.KeepOutBox`, in the robot's base frame: they move with the robot's
+    placement in the cell, and the whole robot must stay clear of them); ``margin``: the clearance a
     state needs (m)."""
+    boxes = ()
+    if keep_out:
+        from planning.cell import cell_from_keep_out
+        boxes = cell_from_keep_out(keep_out).obstacles
+    if cell is not None:
+        from planning.cell import Cell, load_cell
+        if not isinstance(cell, Cell):
+            cell = load_cell(cell)
     if cell is None:
-        return CollisionWorld(robot, obstacles=obstacles, margin=margin)
-    from planning.cell import Cell, load_cell
-    if not isinstance(cell, Cell):
-        cell = load_cell(cell)
+        return CollisionWorld(robot, obstacles=(*obstacles, *boxes), margin=margin)
     r = cell.resolve(robot)
-    return CollisionWorld(robot, r.geometry, (*r.obstacles, *obstacles), r.base, margin, cell.name)
+    boxes = tuple(replace(ob, shapes=tuple(replace(sh, pose=r.base @ sh.pose) for sh in ob.shapes)) for ob in boxes)
+    return CollisionWorld(robot, r.geometry, (*r.obstacles, *obstacles, *boxes), r.base, margin, cell.name)

@@ -186,12 +186,12 @@ def cell_args(sp) -> None:
                                       "length unit (default 0: not touching)")
 
 
-def world_from_args(robot: kin.Robot, args, obstacles=()):
+def world_from_args(robot: kin.Robot, args, keep_out=()):
     """The :class:`planning.collision.CollisionWorld` of ``--cell``/``--self-collision``/``--clearance``
-    (and further ``obstacles``, e.g. keep-out boxes), or None when none of them is given."""
+    (and ``keep_out`` boxes, robot base frame), or None when none of them is given."""
     cell = getattr(args, "cell", None)
     clearance = getattr(args, "clearance", 0.0) or 0.0
-    if cell is None and not obstacles and not getattr(args, "self_collision", False):
+    if cell is None and not keep_out and not getattr(args, "self_collision", False):
         if clearance:
             raise CliInputError("--clearance needs --cell or --self-collision (what it applies to)")
         return None
@@ -200,4 +200,4 @@ def world_from_args(robot: kin.Robot, args, obstacles=()):
     if margin > MAX_MARGIN:
         raise CliInputError(f"--clearance {clearance:g} is outside the allowed range [0, "
                             f"{MAX_MARGIN / robot.chain.length_scale:g}] {robot.chain.length_unit}")
-    return collision_world(robot, None if cell is None else cell_file(cell), margin, obstacles)
+    return collision_world(robot, None if cell is None else cell_file(cell), margin, keep_out=keep_out)

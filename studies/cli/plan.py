@@ -96,7 +96,7 @@ def cmd_plan(args, load_robot) -> int:
                                 "(the robot file's angle unit)")
         goal_pose = make_transform(rpy_to_matrix(rpy), xyz)
     boxes = _keep_out(c, args)
-    world = world_from_args(robot, args, _box_obstacles(robot, args, boxes))
+    world = world_from_args(robot, args, keep_out=boxes)
     ws = windows_from_args(robot, args.margin, args.sigma_min)
     note = sampled_windows_note(ws, "check the path with `rmt check-path --sigma-floor S`, which proves a σ_min floor")
     if note:
@@ -167,21 +167,6 @@ def _keep_out(chain, args) -> list:
                                 "value below the upper one")
         boxes.append(KeepOutBox(tuple(v[:3]), tuple(v[3:])))
     return boxes
-
-
-def _box_obstacles(robot, args, boxes) -> tuple:
-    """Keep-out boxes (robot base frame) as obstacles of the work cell, which the whole robot — every
-    link and the tool, not only the tool point — must stay clear of."""
-    if not boxes:
-        return ()
-    from planning.cell import cell_from_keep_out, load_cell
-    obstacles = cell_from_keep_out(boxes).obstacles
-    if args.cell is None:
-        return obstacles
-    from studies.cli.common import cell_file
-    base = load_cell(cell_file(args.cell)).base     # the cell places the robot: boxes move with its base frame
-    from dataclasses import replace
-    return tuple(replace(ob, shapes=tuple(replace(sh, pose=base @ sh.pose) for sh in ob.shapes)) for ob in obstacles)
 
 
 def cmd_check_path(args, load_robot) -> int:

@@ -169,3 +169,21 @@ def test_self_clearance_changes_no_faster_than_the_relative_bound(name):
     live = (s0 < world.cap) & (s1 < world.cap)
     assert live.any()
     assert np.all(np.abs(s1 - s0)[live] <= Ds[live] * (1 + 1e-6) + 1e-12)
+
+
+def test_keep_out_boxes_move_with_the_robots_place_in_the_cell(fanuc):
+    """A keep-out box is given in the robot's base frame: in a cell that puts the robot 0.8 m up and
+    turned 90° about z, the box stands where that placement takes it."""
+    from planning.cell import parse_cell
+    from planning.collision import collision_world
+    from planning.ompl import KeepOutBox
+
+    cell = parse_cell("[robot]\nxyz = [0, 0, 0.8]\nrpy = [0, 0, 90]\n", "c.toml")
+    world = collision_world(fanuc, cell, keep_out=[KeepOutBox((0.4, -0.1, 0.0), (0.6, 0.1, 0.2))])
+    (box,) = world.obstacles[-1].shapes
+    assert box.kind == "box" and box.size == pytest.approx((0.1, 0.1, 0.1))
+    assert box.pose[:3, 3] == pytest.approx([0.0, 0.5, 0.9])                 # (0.5, 0, 0.1) turned and lifted
+    assert box.pose[:3, :3] == pytest.approx(cell.base[:3, :3])
+    alone = collision_world(fanuc, keep_out=[KeepOutBox((0.4, -0.1, 0.0), (0.6, 0.1, 0.2))])
+    q = fanuc.random_configurations(200, seed=1)
+    np.testing.assert_allclose(world.clearance(q), alone.clearance(q), atol=1e-9)   # same box for the robot
