@@ -60,8 +60,8 @@ from planning.ompl.validity import JointSpaceChecker
 from planning.validate import check_path, densify
 from planning.windows import build_windows
 from studies.benchmarks.bench_collision import load_robot, world_for
+from studies.benchmarks.driver import measure_and_print
 from studies.benchmarks.load import ForeignLoad
-from studies.jsonio import dump
 
 ROBOTS = ("franka_panda", "ur5e")
 QUERIES = 100
@@ -423,14 +423,8 @@ def main(argv=None) -> int:
                     help="the Panda's capsules: the bundled robot's (default) or those the import of "
                          "example-robot-data's panda.urdf gives")
     args = ap.parse_args(argv)
-    log = None if args.json else (lambda msg: print(msg, file=sys.stderr, flush=True))
-    try:
-        R = run(args.quick, log, args.geometry, args.profile)
-    except Exception as e:  # a failed measurement is an error, not a MISS
-        print(f"bench_cell_plan: {type(e).__name__}: {e}", file=sys.stderr)
-        return 1
-    print(dump(R) if args.json else format_report(R))
-    return 0
+    return measure_and_print("bench_cell_plan", args.json,
+                             lambda log: run(args.quick, log, args.geometry, args.profile), format_report)
 
 
 if __name__ == "__main__":

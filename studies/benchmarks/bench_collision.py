@@ -59,8 +59,8 @@ from kin.compiled import default_threads
 from kin.geometry import ClearanceModel, body_names
 from planning.collision import collision_world
 from studies.benchmarks import collision_peers as cp
+from studies.benchmarks.driver import measure_and_print
 from studies.benchmarks.load import ForeignLoad
-from studies.jsonio import dump
 
 ROBOTS = ("franka_panda", "fanuc_lrmate200id")
 CELL = "clutter.toml"
@@ -533,14 +533,8 @@ def main(argv=None) -> int:
                     help="the Panda's capsules: the bundled robot's (default) or those the import of "
                          "example-robot-data's panda.urdf gives")
     args = ap.parse_args(argv)
-    log = None if args.json else (lambda msg: print(msg, file=sys.stderr, flush=True))
-    try:
-        R = run(args.quick, log, args.geometry)
-    except Exception as e:  # a failed measurement is an error, not a MISS
-        print(f"bench_collision: {type(e).__name__}: {e}", file=sys.stderr)
-        return 1
-    print(dump(R) if args.json else format_report(R))
-    return 0
+    return measure_and_print("bench_collision", args.json,
+                             lambda log: run(args.quick, log, args.geometry), format_report)
 
 
 if __name__ == "__main__":

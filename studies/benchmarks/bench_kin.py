@@ -47,10 +47,10 @@ import numpy as np
 
 import kin
 from kin.compiled import WANT_J, WANT_MANIP, WANT_T, default_threads
+from studies.benchmarks.driver import measure_and_print
 from studies.benchmarks.kin_report import format_report
 from studies.benchmarks.load import ForeignLoad, busy_process
 from studies.benchmarks.peers import fd_jacobian, pinocchio_batch, pinocchio_loops, rtb_batch, rtb_loops
-from studies.jsonio import dump
 
 DEFAULT_ROBOT = "fanuc_m16ib20"
 SEED = 20240611
@@ -383,14 +383,8 @@ def main(argv=None) -> int:
     n = kin.load_chain(args.robot).n
     if n != 6:
         ap.error(f"{args.robot} has {n} joints; this benchmark is for 6-joint arms")
-    log = None if args.json else (lambda msg: print(msg, file=sys.stderr, flush=True))
-    try:
-        R = run(args.robot, args.quick, log)
-    except Exception as e:  # a failed measurement is an error, not a MISS
-        print(f"bench_kin: {type(e).__name__}: {e}", file=sys.stderr)
-        return 1
-    print(dump(R) if args.json else format_report(R))
-    return 0
+    return measure_and_print("bench_kin", args.json,
+                             lambda log: run(args.robot, args.quick, log), format_report)
 
 
 if __name__ == "__main__":

@@ -51,8 +51,8 @@ from planning.ompl.goals import wrist_twins
 from planning.ompl.planner import plan
 from planning.validate import check_path
 from planning.windows import build_windows
+from studies.benchmarks.driver import measure_and_print
 from studies.benchmarks.plan_pairs import MAX_DRAWS, Connectivity, crosses_window, draw_pairs, naive_plan
-from studies.jsonio import dump
 
 ROBOTS = ("fanuc_m16ib20", "puma560", "ur3_homework")
 MARGIN = 0.05            # rad, half-width of every window
@@ -323,14 +323,8 @@ def main(argv=None) -> int:
     ap.add_argument("--quick", action="store_true",
                     help=f"{QUICK_PAIRS} pairs per robot, at most {MAX_DRAWS // 3:,d} draws (smoke test)")
     args = ap.parse_args(argv)
-    log = None if args.json else (lambda msg: print(msg, file=sys.stderr, flush=True))
-    try:
-        R = run(args.quick, log)
-    except Exception as e:  # a failed measurement is an error, not a MISS
-        print(f"bench_plan: {type(e).__name__}: {e}", file=sys.stderr)
-        return 1
-    print(dump(R) if args.json else format_report(R))
-    return 0
+    return measure_and_print("bench_plan", args.json,
+                             lambda log: run(args.quick, log), format_report)
 
 
 if __name__ == "__main__":
