@@ -53,7 +53,7 @@ class CollisionWorld:
         self.body_names = body_names(self.chain)
         self.model = ClearanceModel(self.chain, self.geometry, self.obstacles, base=self.base, cap=self.cap)
         #: the body pairs (i < j) checked against each other
-        self.pairs = self.model.self_pairs
+        self.pairs = list(self.model.self_pairs)
         self.radii = reach_radii(self.chain, self.geometry)              # (n, B)
         # the motion bound of each pair (see planning.certify.collision): only joints i + 1 … j move
         # body j relative to body i, so pair (i, j) gets R[l, j] for those joints and 0 for the others;
