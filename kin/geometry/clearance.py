@@ -562,6 +562,18 @@ class ClearanceModel:
         self.last_threads = ran
         return out
 
+    def move_base(self, base) -> None:
+        """Place the robot at ``base`` (4×4, world frame) without rebuilding the model: the obstacles
+        stay where they are.  A reach or placement study evaluates many placements with one model."""
+        T = _pose(base, "base")
+        self.base = T
+        self._flat.world_base = T
+        self._flat.base[:] = _columns(T @ self.chain.base.matrix)
+        if self._batch is not None:          # the C struct points at _flat.base; refresh the pointers anyway
+            self._struct = self._flat.struct()
+            self._mp = ctypes.addressof(self._struct)
+            self.clear_one = self._fast_one()
+
     def clearance(self, Q, threads: int | None = None) -> np.ndarray | float:
         """The minimum clearance (m, ≤ cap) of each configuration: (N,) for Q (N, n), a float for (n,)."""
         Q, single = self._Q(Q)

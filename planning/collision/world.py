@@ -70,6 +70,12 @@ class CollisionWorld:
         return (f"CollisionWorld({self.chain.name!r}, {len(self.obstacles)} obstacles, "
                 f"{len(self.geometry.capsules)} capsules, {len(self.pairs)} self pairs)")
 
+    def move_base(self, base) -> None:
+        """Place the robot at ``base`` (4×4, world frame); obstacles, pairs and motion bounds stay (they
+        do not depend on where the robot stands).  Reach and placement studies move one world around."""
+        self.model.move_base(base)
+        self.base = self.model.base
+
     # ---- evaluation ---------------------------------------------------------------------------
     def clearance(self, Q):
         """Signed clearance (m) of configurations (N, n) → (N,), or of one (n,) → float."""

@@ -1,0 +1,6 @@
+"""Reach studies: which targets a robot placed in a work cell reaches, how well, and why not."""
+from design.reach.score import MEASURES, ScoreWeights, limit_margin
+from design.reach.study import REASONS, ReachSettings, ReachStudy, halton_configurations, placement_matrix, reach_study
+
+__all__ = ["ScoreWeights", "MEASURES", "limit_margin", "REASONS", "ReachSettings", "ReachStudy", "reach_study",
+           "halton_configurations", "placement_matrix"]
