@@ -44,7 +44,7 @@ from design.reach.score import ScoreWeights, limit_margin
 from design.task.model import Dexterity, Targets, TaskError
 from design.task.targets import axis_frames
 
-__all__ = ["ReachSettings", "ReachStudy", "reach_study", "REASONS", "halton_configurations", "target_variants",
+__all__ = ["ReachSettings", "ReachStudy", "reach_study", "REASONS", "halton_configurations", "target_variants", "ReachProblem",
            "placement_matrix"]
 
 #: the reasons a target is not reached, in the order of the stages
@@ -227,7 +227,7 @@ def _dexterity(robot: kin.Robot, Q: np.ndarray, measure: str) -> np.ndarray:
     return np.linalg.svd(J[:, :3, :], compute_uv=False)[:, -1]
 
 
-class _Problem:
+class ReachProblem:
     """The parts of a reach study that do not depend on the placement: robot, targets, the start
     sample and its nearest-neighbour index, the collision world, the windows, the dexterity reference."""
 
@@ -267,6 +267,10 @@ class _Problem:
             self._lifted = _lifted(self.robot)
         return self._lifted
 
+    def run(self, P: np.ndarray, explain: bool = False) -> dict:
+        """The study at placement P (4×4): per-target arrays (see :func:`reach_study`)."""
+        return _decide(self, P, *_evaluate(self, P, explain), explain)
+
     def goals(self, P: np.ndarray):
         """Targets seen from placement P (4×4): goals per row (N·V) and the starts (N, k, n)."""
         t = self.targets
@@ -283,7 +287,7 @@ class _Problem:
         return G, starts, "pose"
 
 
-def _evaluate(pb: _Problem, P: np.ndarray, explain: bool):
+def _evaluate(pb: ReachProblem, P: np.ndarray, explain: bool):
     """One placement: per (target, start) the best counting solution; and per target the stage."""
     robot, t, s = pb.robot, pb.targets, pb.settings
     N, nv, k, n = len(t), pb.nv, s.starts, robot.n
@@ -333,7 +337,7 @@ def _evaluate(pb: _Problem, P: np.ndarray, explain: bool):
     return stage, score, terms, qs
 
 
-def _decide(pb: _Problem, P: np.ndarray, stage, score, terms, qs, explain: bool) -> dict:
+def _decide(pb: ReachProblem, P: np.ndarray, stage, score, terms, qs, explain: bool) -> dict:
     N, n = len(pb.targets), pb.robot.n
     flat_score = score.reshape(N, -1)
     best = flat_score.argmax(axis=1)
@@ -403,12 +407,11 @@ def reach_study(robot: kin.Robot, targets: Targets, cell=None, placement=None, c
         raise TaskError(f"targets must be design.task.Targets, got {type(targets).__name__}")
     weights = weights or ScoreWeights()
     settings = settings or ReachSettings()
-    pb = _Problem(robot, targets, cell, clearance, windows, weights, settings, dexterity)
+    pb = ReachProblem(robot, targets, cell, clearance, windows, weights, settings, dexterity)
     P = pb.default_base if placement is None else placement_matrix(placement)
     if progress:
         progress(f"reach study: {len(targets)} targets × {pb.nv} orientation(s) × {settings.starts} starts")
-    raw = _evaluate(pb, P, True)
-    d = _decide(pb, P, *raw, True)
+    d = pb.run(P, explain=True)
     notes = []
     if cell is None:
         notes.append("no work cell: collisions not checked; the score has no clearance term")
