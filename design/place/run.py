@@ -147,14 +147,16 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
         runs.append(run)
         say(f"IPOPT start {i + 1}/{len(order)}: {run.status}, objective {run.objective:.6g}, {run.iterations} "
             f"iterations, {run.time_s:.2f} s")
-    if runs:
-        vals = []
-        for r in runs:
-            d = light.run(placement_transform(r.u))
-            vals.append(d["reached"].sum() + d["score"].mean() if region.allowed(r.u[None])[0] else -1.0)
+    if runs:            # each run verified with its own configurations offered as one more IK start
+        studies = [reach_study(robot, targets, cell, placement_transform(r.u), clearance, windows, weights,
+                               settings, dexterity, hint=r.q) if region.allowed(r.u[None])[0] else None
+                   for r in runs]
+        vals = [s.value if s is not None else -1.0 for s in studies]
         best = int(np.argmax(vals))
-        verify("ipopt", runs[best].u, time.perf_counter() - t0,
-               {"starts": len(runs), "best_start": best, "candidates": len(C)})
+        if studies[best] is not None:
+            verified.append(("ipopt", runs[best].u, studies[best]))
+            methods["ipopt"] = _verified("ipopt", runs[best].u, studies[best], time.perf_counter() - t0,
+                                         {"starts": len(runs), "best_start": best, "candidates": len(C)})
     # 3: cross-checks
     if de_iterations and time.perf_counter() < deadline:
         say("differential evolution")

@@ -267,9 +267,9 @@ class ReachProblem:
             self._lifted = _lifted(self.robot)
         return self._lifted
 
-    def run(self, P: np.ndarray, explain: bool = False) -> dict:
+    def run(self, P: np.ndarray, explain: bool = False, hint: np.ndarray | None = None) -> dict:
         """The study at placement P (4×4): per-target arrays (see :func:`reach_study`)."""
-        return _decide(self, P, *_evaluate(self, P, explain), explain)
+        return _decide(self, P, *_evaluate(self, P, explain, hint), explain)
 
     def goals(self, P: np.ndarray):
         """Targets seen from placement P (4×4): goals per row (N·V) and the starts (N, k, n)."""
@@ -287,53 +287,95 @@ class ReachProblem:
         return G, starts, "pose"
 
 
-def _evaluate(pb: ReachProblem, P: np.ndarray, explain: bool):
-    """One placement: per (target, start) the best counting solution; and per target the stage."""
+def _judge(pb: ReachProblem, goal: np.ndarray, q0: np.ndarray, mode: str):
+    """IK from q0 for each goal row, then each solution's stage (0 none, 1 in limits, 2 clear,
+    3 outside windows, 4 dexterous enough), score (−1 unless stage 4), terms (dexterity, clearance,
+    limit margin) and configuration."""
+    robot, t, s = pb.robot, pb.targets, pb.settings
+    R = len(goal)
+    res = robot.ik(goal, seed=0, q0=q0, mode=mode, restarts=1, rounds=1, max_iter=s.max_iter,
+                   tol_position=t.tolerance)
+    ok = np.asarray(res.success, bool)
+    Q = np.asarray(res.q).reshape(R, robot.n)
+    stage = ok.astype(np.int8)
+    score = np.full(R, -1.0)
+    terms = np.full((R, 3), np.nan)
+    if ok.any():
+        Qk = Q[ok]
+        clear = np.full(len(Qk), np.nan)
+        good = np.ones(len(Qk), bool)
+        if pb.world is not None:
+            clear = np.asarray(pb.world.clearance(Qk), float)
+            good = clear > pb.world.margin
+        out_win = np.ones(len(Qk), bool) if pb.windows is None else ~np.asarray(pb.windows.contains(Qk), bool)
+        dexv = _dexterity(robot, Qk, pb.weights.measure)
+        dex_ok = np.ones(len(Qk), bool)
+        if pb.dex is not None:
+            dex_ok = _dexterity(robot, Qk, pb.dex.kind) >= pb.dex.value
+        st = 1 + good.astype(np.int8) + (good & out_win).astype(np.int8) + (good & out_win & dex_ok).astype(np.int8)
+        stage[ok] = st
+        d_term = np.clip(dexv / pb.dex_ref, 0.0, 1.0)
+        c_term = None if pb.world is None else np.clip(clear / pb.weights.clearance_ref, 0.0, 1.0)
+        l_term = limit_margin(Qk, robot.chain.lower, robot.chain.upper)
+        score[ok] = np.where(st == 4, pb.weights.combine(d_term, c_term, l_term), -1.0)
+        terms[ok] = np.column_stack([dexv, clear, l_term])
+    return stage, score, terms, Q
+
+
+def _snapped(pb: ReachProblem, P: np.ndarray, q: np.ndarray, mode: str) -> np.ndarray:
+    """Goals (robot frame) for configurations q (N, n) offered as solutions: each target's position,
+    with the orientation the target requires nearest to q's own (about a free axis: q's rotation)."""
+    t = pb.targets
+    Ri, ti = P[:3, :3].T, -P[:3, :3].T @ P[:3, 3]
+    pos = t.positions @ Ri.T + ti
+    if mode == "position":
+        return pos
+    G = np.tile(np.eye(4), (len(t), 1, 1))
+    G[:, :3, 3] = pos
+    if t.orientation == "pose":
+        G[:, :3, :3] = np.einsum("ij,njk->nik", Ri, t.rotations)
+        return G
+    F = pb.robot.fk(q)[:, :3, :3]
+    a = t.axes @ Ri.T
+    if t.orientation == "cone":        # the tool axis as it is, if inside the cone, else pulled onto its rim
+        z = F[:, :, 2]
+        c = np.einsum("ij,ij->i", z, a)
+        lim = np.cos(t.cone_half_angle)
+        w = z - c[:, None] * a
+        wn = np.linalg.norm(w, axis=1, keepdims=True)
+        w = np.where(wn > 1e-12, w / np.where(wn > 0, wn, 1), F[:, :, 0])
+        a = np.where((c >= lim)[:, None], z, lim * a + np.sqrt(1 - lim ** 2) * w)
+    x = F[:, :, 0] - np.einsum("ij,ij->i", F[:, :, 0], a)[:, None] * a
+    xn = np.linalg.norm(x, axis=1, keepdims=True)
+    x = np.where(xn > 1e-9, x / np.where(xn > 0, xn, 1), axis_frames(a, 1)[:, 0, :, 0])
+    G[:, :3, 0], G[:, :3, 1], G[:, :3, 2] = x, np.cross(a, x), a
+    return G
+
+
+def _evaluate(pb: ReachProblem, P: np.ndarray, explain: bool, hint: np.ndarray | None = None):
+    """One placement: every (target, variant, start) judged; ``hint`` (N, n) adds one start per target
+    (another solver's configuration, e.g. the placement NLP's), judged like the others."""
     robot, t, s = pb.robot, pb.targets, pb.settings
     N, nv, k, n = len(t), pb.nv, s.starts, robot.n
     goal, starts, mode = pb.goals(P)
     if pb.world is not None:
         pb.world.move_base(P)
-    stage = np.zeros((N, nv, k), np.int8)          # 1 in limits, 2 clear, 3 outside windows, 4 dexterous
-    score = np.full((N, nv, k), -1.0)
-    terms = np.full((N, nv, k, 3), np.nan)
-    qs = np.zeros((N, nv, k, n))
+    kk = k + (hint is not None)
+    stage = np.zeros((N, nv, kk), np.int8)
+    score = np.full((N, nv, kk), -1.0)
+    terms = np.full((N, nv, kk, 3), np.nan)
+    qs = np.zeros((N, nv, kk, n))
     rows_t = np.repeat(np.arange(N), nv)
     for j in range(k):
-        res = robot.ik(goal, seed=0, q0=starts[rows_t, j], mode=mode, restarts=1, rounds=1, max_iter=s.max_iter,
-                       tol_position=t.tolerance)
-        ok = np.asarray(res.success, bool).reshape(N, nv)
-        Q = np.asarray(res.q).reshape(N, nv, n)
-        qs[:, :, j] = Q
-        st = ok.astype(np.int8)
-        if ok.any():
-            Qk = Q[ok]
-            clear = np.full(len(Qk), np.nan)
-            good = np.ones(len(Qk), bool)
-            if pb.world is not None:
-                clear = np.asarray(pb.world.clearance(Qk), float)
-                good = clear > pb.world.margin
-            st_ok = 1 + good.astype(np.int8)
-            out_win = np.ones(len(Qk), bool) if pb.windows is None else ~np.asarray(pb.windows.contains(Qk), bool)
-            st_ok += (good & out_win).astype(np.int8)
-            dexv = _dexterity(robot, Qk, pb.weights.measure)
-            dex_ok = np.ones(len(Qk), bool)
-            if pb.dex is not None:
-                dex_ok = _dexterity(robot, Qk, pb.dex.kind) >= pb.dex.value
-            st_ok += (good & out_win & dex_ok).astype(np.int8)
-            st[ok] = st_ok
-            d_term = np.clip(dexv / pb.dex_ref, 0.0, 1.0)
-            c_term = None if pb.world is None else np.clip(clear / pb.weights.clearance_ref, 0.0, 1.0)
-            l_term = limit_margin(Qk, robot.chain.lower, robot.chain.upper)
-            sc = pb.weights.combine(d_term, c_term, l_term)
-            tk = np.column_stack([dexv, clear, l_term])
-            sco = score[:, :, j]
-            sco[ok] = np.where(st_ok == 4, sc, -1.0)
-            score[:, :, j] = sco
-            te = terms[:, :, j]
-            te[ok] = tk
-            terms[:, :, j] = te
-        stage[:, :, j] = st
+        st, sc, te, Q = _judge(pb, goal, starts[rows_t, j], mode)
+        stage[:, :, j], score[:, :, j] = st.reshape(N, nv), sc.reshape(N, nv)
+        terms[:, :, j], qs[:, :, j] = te.reshape(N, nv, 3), Q.reshape(N, nv, n)
+    if hint is not None:
+        h = np.clip(np.asarray(hint, float), robot.chain.lower, robot.chain.upper)
+        st, sc, te, Q = _judge(pb, _snapped(pb, P, h, mode), h, mode)
+        stage[:, 0, k], score[:, 0, k], terms[:, 0, k], qs[:, 0, k] = st, sc, te, Q
+        if nv > 1:
+            qs[:, 1:, k] = Q[:, None]
     return stage, score, terms, qs
 
 
@@ -394,14 +436,17 @@ def _decide(pb: ReachProblem, P: np.ndarray, stage, score, terms, qs, explain: b
 
 def reach_study(robot: kin.Robot, targets: Targets, cell=None, placement=None, clearance: float = 0.0,
                 windows=None, weights: ScoreWeights | None = None, settings: ReachSettings | None = None,
-                dexterity: Dexterity | None = None, progress: Callable[[str], None] | None = None) -> ReachStudy:
+                dexterity: Dexterity | None = None, progress: Callable[[str], None] | None = None,
+                hint: np.ndarray | None = None) -> ReachStudy:
     """Reach study of ``targets`` (cell frame) by ``robot`` at ``placement`` in ``cell``.
 
     ``cell``: a :class:`planning.cell.Cell` (or None: no collisions); ``placement``: the robot's base
     placement in the cell (a :class:`kin.Placement`, 4×4, or x y z roll pitch yaw; None: the cell's
     own); ``clearance``: what a solution needs (m); ``windows``: a
     :class:`planning.windows.WindowSet` whose inside does not count; ``dexterity``: a required
-    σ_min or manipulability.  See the module text for verdicts, reasons and the score.
+    σ_min or manipulability; ``hint`` (N, n): one more start per target, e.g. the configurations a
+    placement optimisation found (judged like every other start: IK from it to the target, then the
+    limits, the cell, the windows).  See the module text for verdicts, reasons and the score.
     """
     if not isinstance(targets, Targets):
         raise TaskError(f"targets must be design.task.Targets, got {type(targets).__name__}")
@@ -411,7 +456,9 @@ def reach_study(robot: kin.Robot, targets: Targets, cell=None, placement=None, c
     P = pb.default_base if placement is None else placement_matrix(placement)
     if progress:
         progress(f"reach study: {len(targets)} targets × {pb.nv} orientation(s) × {settings.starts} starts")
-    d = pb.run(P, explain=True)
+    if hint is not None and np.shape(hint) != (len(targets), robot.n):
+        raise TaskError(f"hint must have shape ({len(targets)}, {robot.n}), got {np.shape(hint)}")
+    d = pb.run(P, explain=True, hint=hint)
     notes = []
     if cell is None:
         notes.append("no work cell: collisions not checked; the score has no clearance term")
