@@ -168,6 +168,61 @@ class ReachStudy:
     def to_dict(self) -> dict:
         return {**self.summary(), "per_target": self.rows()}
 
+    @classmethod
+    def from_dict(cls, d: dict, where: str = "reach study") -> "ReachStudy":
+        """A study back from :meth:`to_dict` (e.g. ``rmt reach --json`` output), for comparisons.
+        Every field is checked; a bad one raises :class:`TaskError` naming ``where`` and the field."""
+        from kin.transforms import make_transform, rpy_to_matrix
+
+        def fail(field: str, msg: str):
+            return TaskError(msg, where, field)
+
+        if not isinstance(d, dict):
+            raise fail("", "must be a JSON object (the output of rmt reach --json)")
+        rows = d.get("per_target")
+        if not isinstance(rows, list) or not rows:
+            raise fail("per_target", "missing or empty: write the study with rmt reach --json")
+        try:
+            pl = d["placement"]
+            xyz, rpy = (np.array([float(v) for v in pl[k]]) for k in ("xyz", "rpy"))
+            if xyz.shape != (3,) or rpy.shape != (3,) or not np.all(np.isfinite(np.r_[xyz, rpy])):
+                raise ValueError
+        except (KeyError, TypeError, ValueError):
+            raise fail("placement", "must hold xyz and rpy, three finite numbers each") from None
+        cols: dict[str, list] = {k: [] for k in ("pos", "reached", "score", "reason", "obstacle", "support", "q")}
+        for i, r in enumerate(rows):
+            try:
+                pos = [float(r[k]) for k in ("x", "y", "z")]
+                sc = float(r["score"])
+                reason = str(r["reason"])
+                if not (np.all(np.isfinite(pos)) and 0.0 <= sc <= 1.0) or reason not in _STAGE_NAMES:
+                    raise ValueError
+                if not isinstance(r["reached"], bool) or r["reached"] != (reason == "reached"):
+                    raise ValueError
+                q = [float(v) for v in r.get("q", [])]
+            except (KeyError, TypeError, ValueError):
+                raise fail(f"per_target[{i}]", "needs finite x, y, z, reached (true/false, agreeing with "
+                                                f"reason), score in [0, 1] and reason in {', '.join(_STAGE_NAMES)}") from None
+            cols["pos"].append(pos)
+            cols["reached"].append(r["reached"])
+            cols["score"].append(sc)
+            cols["reason"].append(reason)
+            cols["obstacle"].append(str(r.get("obstacle", "")))
+            cols["support"].append(int(r.get("support", 0)) if isinstance(r.get("support", 0), int) else 0)
+            cols["q"].append(q)
+        N = len(rows)
+        nq = {len(q) for q in cols["q"]}
+        Q = np.array(cols["q"], float) if len(nq) == 1 else np.zeros((N, 0))
+        nan = np.full(N, np.nan)
+        return cls(robot=str(d.get("robot", "")), positions=np.array(cols["pos"], float),
+                   placement=make_transform(rpy_to_matrix(rpy), xyz), reached=np.array(cols["reached"], bool),
+                   score=np.array(cols["score"], float), dexterity=nan.copy(), clearance=nan.copy(),
+                   limit_margin=nan.copy(), q=Q, reason=np.array(cols["reason"]),
+                   detail=np.array([""] * N), obstacle=np.array(cols["obstacle"]),
+                   support=np.array(cols["support"], int), settings=ReachSettings(), weights=ScoreWeights(),
+                   dexterity_ref=float("nan"), cell=str(d.get("cell", "")), orientation=str(d.get("orientation", "")),
+                   notes=[f"read from {where}"])
+
 
 # ---- helpers shared with the placement search ---------------------------------------------------------
 def placement_matrix(placement) -> np.ndarray:
