@@ -23,7 +23,7 @@ SAMPLINGS = ("grid", "lhs", "sobol")
 #: metrics a sweep may store per design (objective, score and feasible are always stored)
 METRICS = ("coverage", "reach", "flips", "gci", "structural_length", "length_index", "volume")
 DEFAULT_METRICS = ("coverage", "reach", "flips", "gci", "structural_length")
-_TOP = ("name", "title", "task", "metrics", "architecture", "sampling", "evaluation", "parameters")
+_TOP = ("name", "title", "task", "metrics", "architecture", "sampling", "evaluation", "parameters", "placement")
 #: at most this many designs from the sampling (a larger sweep is several files, or --resume extends)
 MAX_DESIGNS = 1_000_000
 
@@ -67,6 +67,8 @@ class Sweep:
     metrics: tuple[str, ...] = DEFAULT_METRICS
     title: str = ""
     source: str = ""
+    #: co-design: place every design at its best (:func:`design.place.codesign.evaluate_placed_design`)
+    placement: bool = False
 
 
 class _SweepReader(_Reader):
@@ -143,7 +145,10 @@ def loads_sweep(text: str, path: str | None = None, base: Path | None = None, ta
     if size > MAX_DESIGNS:
         raise r.fail("parameters", f"{size} designs; at most {MAX_DESIGNS} per sweep file")
     title = r.string(raw.get("title", ""), "title")
-    return Sweep(name=name, task=task, parameters=params, architectures=archs, sampling=method, count=count,
+    placement = raw.get("placement", False)
+    if not isinstance(placement, bool):
+        raise r.fail("placement", f"must be true or false, got {placement!r}")
+    return Sweep(placement=placement, name=name, task=task, parameters=params, architectures=archs, sampling=method, count=count,
                  seed=seed, seeds=seeds, samples=samples, eval_seed=eval_seed, metrics=metrics, title=title,
                  source=path or "")
 

@@ -89,6 +89,9 @@ def run_sweep(sweep: Sweep, db: str | Path, executor=None, resume: bool = False,
     t0 = time.monotonic()
     deadline = t0 + max_time
     executor = executor or LocalExecutor(1)
+    if evaluate is None and sweep.placement:
+        from design.place.codesign import evaluate_placed_design
+        evaluate = evaluate_placed_design
     job = make_job(sweep, evaluate)
     with Store(db, sweep_meta(sweep, job), resume=resume) as store:
         reset = store.reset_running()
