@@ -334,8 +334,10 @@ class ReachProblem:
         q = pos if not self.with_axes else np.hstack([pos, self.scale * (t.axes @ Ri.T)])
         starts = self.Qs[self.nn.kneighbors(q, return_distance=False)]
         rows_t = np.repeat(np.arange(len(t)), self.nv)
-        if self.V is None:
-            return pos[rows_t], starts, "position"
+        if self.V is None:          # as 4×4 goals: an (N, 3) batch of N = 3 would read as one 3×3 pose
+            G = np.tile(np.eye(4), (len(t), 1, 1))
+            G[:, :3, 3] = pos
+            return G, starts, "position"
         G = np.tile(np.eye(4), (len(rows_t), 1, 1))
         G[:, :3, :3] = np.einsum("ij,njk->nik", Ri, self.V.reshape(-1, 3, 3))
         G[:, :3, 3] = pos[rows_t]
@@ -383,10 +385,10 @@ def _snapped(pb: ReachProblem, P: np.ndarray, q: np.ndarray, mode: str) -> np.nd
     t = pb.targets
     Ri, ti = P[:3, :3].T, -P[:3, :3].T @ P[:3, 3]
     pos = t.positions @ Ri.T + ti
-    if mode == "position":
-        return pos
     G = np.tile(np.eye(4), (len(t), 1, 1))
     G[:, :3, 3] = pos
+    if mode == "position":
+        return G
     if t.orientation == "pose":
         G[:, :3, :3] = np.einsum("ij,njk->nik", Ri, t.rotations)
         return G
@@ -478,9 +480,15 @@ def _decide(pb: ReachProblem, P: np.ndarray, stage, score, terms, qs, explain: b
         t = pb.targets
         goal, starts, mode = pb.goals(P)
         rows = (far[:, None] * pb.nv + np.arange(pb.nv)[None]).ravel()
-        res = lifted.ik(goal[rows], seed=0, q0=np.repeat(starts[far, 0], pb.nv, axis=0), mode=mode, restarts=2,
-                        rounds=2, max_iter=pb.settings.max_iter, tol_position=t.tolerance)
-        hit = np.asarray(res.success, bool).reshape(len(far), pb.nv).any(axis=1)
+        hit = np.zeros(len(far), bool)
+        for j in range(starts.shape[1]):       # the study's starts, each with random restarts over the lifted range
+            left = ~hit
+            if not left.any():
+                break
+            sub = (np.flatnonzero(left)[:, None] * pb.nv + np.arange(pb.nv)[None]).ravel()
+            res = lifted.ik(goal[rows[sub]], seed=j, q0=np.repeat(starts[far[left], j], pb.nv, axis=0), mode=mode,
+                            restarts=4, rounds=2, max_iter=pb.settings.max_iter, tol_position=t.tolerance)
+            hit[left] = np.asarray(res.success, bool).reshape(int(left.sum()), pb.nv).any(axis=1)
         for i, h in zip(far, hit):
             reason[i] = "joint_limits" if h else "out_of_reach"
             detail[i] = ("reached only beyond the joint limits" if h else
