@@ -22,7 +22,7 @@ import numpy as np
 
 from design.place.nlp import NlpRun, PlacementNlp
 from design.place.region import PlacementRegion, placement_transform
-from design.place.search import SearchResult, de_search, evaluate_placements, grid_placements, halton_placements
+from design.place.search import Evaluated, SearchResult, de_search, evaluate_placements, grid_placements, halton_placements
 from design.reach.score import ScoreWeights
 from design.reach.study import ReachProblem, ReachSettings, ReachStudy, reach_study
 from design.task.model import Dexterity, Targets, TaskError
@@ -51,6 +51,8 @@ class PlacementResult:
     ipopt: list[NlpRun] = field(default_factory=list)
     time_s: float = 0.0
     notes: list[str] = field(default_factory=list)
+    #: the grid cross-check's placements and light-study values (None without a grid)
+    grid: Evaluated | None = None
 
     @property
     def matrix(self) -> np.ndarray:
@@ -165,6 +167,7 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
         if de.u is not None:
             verify("differential_evolution", de.u, de.time_s,
                    {"evaluations": de.evaluations, "generations": de.generations, "message": de.message})
+    eg = None
     if grid and time.perf_counter() < deadline:
         U = grid_placements(region, grid)
         say(f"grid: {len(U)} placements")
@@ -182,4 +185,4 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
         notes.append(f"the time budget of {max_time:g} s ran out; the searches stopped early")
     return PlacementResult(robot=robot.name, region=region, u=np.asarray(u, float), study=study, before=before,
                            method=name, methods=methods, ipopt=runs, time_s=time.perf_counter() - t_start,
-                           notes=notes)
+                           notes=notes, grid=eg)
