@@ -227,7 +227,7 @@ def run(s: Study) -> None:
         s.finding(f"The smallest clearance of a reached weld pose is {1000 * float(np.min(clear)):.3g} mm "
                   f"(required: {1000 * clearance:g} mm).", ok=bool(np.min(clear) > clearance))
         s.results["before"] = before.summary()
-        s.results["after"] = after.summary()
+        s.results["after"] = {**after.summary(), "per_target": after.rows()}
         s.results["comparison"] = {k: d[k] for k in ("gained", "lost", "mean_score_change", "reason_changes")}
         path = after.q[after.reached]
         s.view3d(cell_view(world, path[0] if len(path) else None, path=path if len(path) > 1 else None,
