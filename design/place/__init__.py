@@ -7,5 +7,6 @@ from design.place.region import COORDINATES, PlacementRegion, placement_transfor
 from design.place.run import SCREEN, PlacementResult, place
 from design.place.search import de_search, evaluate_placements, grid_placements, halton_placements
 
-__all__ = ["place", "place_pair", "PairResult", "robot_robot_clearance", "pareto_front", "evaluate_placed_design", "PlacementResult", "PlacementRegion", "PlacementNlp", "NlpRun", "COORDINATES", "SCREEN",
+__all__ = ["place", "place_pair", "PairResult", "robot_robot_clearance", "pareto_front", "evaluate_placed_design",
+           "PlacementResult", "PlacementRegion", "PlacementNlp", "NlpRun", "COORDINATES", "SCREEN",
            "placement_transform", "de_search", "evaluate_placements", "grid_placements", "halton_placements"]

@@ -22,7 +22,14 @@ import numpy as np
 
 from design.place.nlp import NlpRun, PlacementNlp
 from design.place.region import PlacementRegion, placement_transform
-from design.place.search import Evaluated, SearchResult, de_search, evaluate_placements, grid_placements, halton_placements
+from design.place.search import (
+    Evaluated,
+    SearchResult,
+    de_search,
+    evaluate_placements,
+    grid_placements,
+    halton_placements,
+)
 from design.reach.score import ScoreWeights
 from design.reach.study import ReachProblem, ReachSettings, ReachStudy, reach_study
 from design.task.model import Dexterity, Targets, TaskError

@@ -44,7 +44,8 @@ from design.reach.score import ScoreWeights, limit_margin
 from design.task.model import Dexterity, Targets, TaskError
 from design.task.targets import axis_frames
 
-__all__ = ["ReachSettings", "ReachStudy", "reach_study", "REASONS", "halton_configurations", "target_variants", "ReachProblem",
+__all__ = ["ReachSettings", "ReachStudy", "reach_study", "REASONS", "halton_configurations", "target_variants",
+           "ReachProblem",
            "placement_matrix"]
 
 #: the reasons a target is not reached, in the order of the stages
@@ -202,7 +203,8 @@ class ReachStudy:
                 q = [float(v) for v in r.get("q", [])]
             except (KeyError, TypeError, ValueError):
                 raise fail(f"per_target[{i}]", "needs finite x, y, z, reached (true/false, agreeing with "
-                                                f"reason), score in [0, 1] and reason in {', '.join(_STAGE_NAMES)}") from None
+                                                f"reason), score in [0, 1] and reason in "
+                                                f"{', '.join(_STAGE_NAMES)}") from None
             cols["pos"].append(pos)
             cols["reached"].append(r["reached"])
             cols["score"].append(sc)
@@ -452,7 +454,8 @@ def _decide(pb: ReachProblem, P: np.ndarray, stage, score, terms, qs, explain: b
     Q = qs.reshape(N, -1, n)[ar, pick]
     T = terms.reshape(N, -1, 3)[ar, pick]
     out = {"reached": reached, "score": np.where(reached, flat_score[ar, best], 0.0), "q": Q,
-           "dexterity": np.where(reached, T[:, 0], np.nan), "clearance": np.where(reached | (top >= 1), T[:, 1], np.nan),
+           "dexterity": np.where(reached, T[:, 0], np.nan),
+           "clearance": np.where(reached | (top >= 1), T[:, 1], np.nan),
            "limit_margin": np.where(reached, T[:, 2], np.nan), "support": support, "top": top}
     if not explain:
         return out

@@ -148,7 +148,8 @@ def loads_sweep(text: str, path: str | None = None, base: Path | None = None, ta
     placement = raw.get("placement", False)
     if not isinstance(placement, bool):
         raise r.fail("placement", f"must be true or false, got {placement!r}")
-    return Sweep(placement=placement, name=name, task=task, parameters=params, architectures=archs, sampling=method, count=count,
+    return Sweep(placement=placement, name=name, task=task, parameters=params, architectures=archs,
+                 sampling=method, count=count,
                  seed=seed, seeds=seeds, samples=samples, eval_seed=eval_seed, metrics=metrics, title=title,
                  source=path or "")
 

@@ -27,7 +27,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 
 import studies
-from design.place import PlacementRegion, place, placement_transform
+from design.place import PlacementRegion, place
 from design.reach import ReachSettings, compare_studies
 from design.task.model import Targets
 from kin import Placement, Robot
@@ -124,7 +124,8 @@ def placement_map(result, grid) -> Figure:
                         vmin=0, vmax=best)
         fig.colorbar(sc, ax=ax, label="targets reached + mean score (best yaw)")
     for (x0, x1, y0, y1) in KEEP_OUT:
-        ax.add_patch(Rectangle((1000 * x0, 1000 * y0), 1000 * (x1 - x0), 1000 * (y1 - y0), fill=False, hatch="//", color="tab:red"))
+        ax.add_patch(Rectangle((1000 * x0, 1000 * y0), 1000 * (x1 - x0), 1000 * (y1 - y0), fill=False, hatch="//",
+                               color="tab:red"))
     marks = {"ipopt": "*", "differential_evolution": "D", "grid": "s"}
     for name, m in result.methods.items():
         ax.scatter(1000 * m["placement"][0], 1000 * m["placement"][1], marker=marks.get(name, "o"), s=140,
@@ -160,7 +161,8 @@ def run(s: Study) -> None:
                "the faceplate — becomes the robot's tool frame, so each target is a point and a torch axis: the "
                f"{n_seam} points of the fillet seam's upper half ({ARC[0]:g}° … {ARC[1]:g}° around the pipe, "
                f"radius {SEAM_RADIUS:g} mm, at the flange's face; lower down the torch would hit the fixture the pipe "
-               "lies on, so the lower half is welded after turning the part), the torch at {WORK_ANGLE:g}° between pipe and flange, free to turn about its own axis. "
+               "lies on, so the lower half is welded after turning the part), the torch at "
+               f"{WORK_ANGLE:g}° between pipe and flange, free to turn about its own axis. "
                f"A weld pose counts when it keeps {1000 * clearance:g} mm from the cell and between the robot's "
                "own bodies. The base may stand anywhere on the table top "
                f"(x {1000 * REGION['x'][0]:g} … {1000 * REGION['x'][1]:g} mm, y {1000 * REGION['y'][0]:g} … "

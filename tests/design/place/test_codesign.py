@@ -86,8 +86,8 @@ def test_two_robots_split_a_long_task():
     assert np.all(res.studies[0].reached[a]) and np.all(res.studies[1].reached[b])
     assert not res.conflicts
     # recompute the robot–robot clearance of the assigned configurations independently of place_pair
-    from planning.collision import collision_world
     from design.place import placement_transform
+    from planning.collision import collision_world
     wa, wb = collision_world(ur, None), collision_world(ur, None)
     wa.move_base(placement_transform(res.u[0]))
     wb.move_base(placement_transform(res.u[1]))

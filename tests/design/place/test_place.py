@@ -69,10 +69,12 @@ def test_grid_and_halton_placements():
     assert np.allclose(T[:3, 0], [0, 1, 0]) and np.allclose(T[:3, 3], [1, 2, 3])
 
 
-@pytest.mark.parametrize("kw", [dict(x=(1, 0), y=(0, 1)), dict(x=(0, 1), y=(0, float("nan"))), dict(x=(0, 1, 2), y=(0, 1)),
+@pytest.mark.parametrize("kw", [dict(x=(1, 0), y=(0, 1)), dict(x=(0, 1), y=(0, float("nan"))),
+                                dict(x=(0, 1, 2), y=(0, 1)),
                                 dict(x=(0, 0), y=(0, 0), yaw=(0, 0)), dict(x=(0, 1), y=(0, 1), tilt=2.0),
                                 dict(x=(0, 1), y=(0, 1), keep_out=((0, 1, 0),)),
-                                dict(x=(0, 1), y=(0, 1), keep_out=((1, 0, 0, 1),)), dict(x=(0, 1), y=(0, 1), tilt=True)])
+                                dict(x=(0, 1), y=(0, 1), keep_out=((1, 0, 0, 1),)),
+                                dict(x=(0, 1), y=(0, 1), tilt=True)])
 def test_hostile_region(kw):
     with pytest.raises(TaskError):
         PlacementRegion(**kw)
@@ -90,8 +92,8 @@ def test_hostile_place_arguments(r2):
 
 def test_pareto_front_by_brute_force():
     rng = np.random.default_rng(3)
-    rows = [{"coverage": float(c), "mean_score": float(s), "structural_length": float(l)}
-            for c, s, l in rng.uniform(size=(60, 3))]
+    rows = [{"coverage": float(c), "mean_score": float(s), "structural_length": float(length)}
+            for c, s, length in rng.uniform(size=(60, 3))]
     rows.append({"coverage": 0.5})             # missing metrics: left out
     front = set(pareto_front(rows))
     for i, a in enumerate(rows[:-1]):

@@ -129,6 +129,7 @@ def test_collision_reason_names_the_obstacle():
 
 def test_json_round_trip_and_reasons_listed(r2):
     import json
+
     from design.reach import ReachStudy
     s = reach_study(r2, _ring(n=(4, 4, 1)), settings=FAST)
     back = ReachStudy.from_dict(json.loads(json.dumps(s.to_dict())))
@@ -147,7 +148,8 @@ def test_hostile_settings(kw):
         ReachSettings(**kw)
 
 
-@pytest.mark.parametrize("kw", [dict(dexterity=-1), dict(dexterity=float("nan")), dict(dexterity=0, clearance=0, limits=0),
+@pytest.mark.parametrize("kw", [dict(dexterity=-1), dict(dexterity=float("nan")),
+                                dict(dexterity=0, clearance=0, limits=0),
                                 dict(measure="kappa"), dict(dexterity_ref=0), dict(clearance_ref=-0.1),
                                 dict(limits="1")])
 def test_hostile_weights(kw):

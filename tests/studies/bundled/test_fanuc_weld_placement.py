@@ -16,8 +16,18 @@ from kin.transforms import make_transform, rpy_to_matrix
 from planning.cell import load_cell
 from planning.collision import collision_world
 from tests.studies.bundled.common import assert_report_holds, assert_report_renders, quick_run
-from tests.studies.bundled.test_fanuc_weld_cell import (BASE, CELL_FILE, OBSTACLES, SEAM_C, SEAM_R, TIP, capsules,
-                                                        distance, frames, sphere_clearance)
+from tests.studies.bundled.test_fanuc_weld_cell import (
+    BASE,
+    CELL_FILE,
+    OBSTACLES,
+    SEAM_C,
+    SEAM_R,
+    TIP,
+    capsules,
+    distance,
+    frames,
+    sphere_clearance,
+)
 
 
 @pytest.fixture(scope="module")
@@ -82,7 +92,8 @@ def test_reached_weld_poses_put_the_tip_on_the_seam_clear_of_the_cell(run, world
             if body != 7:
                 assert sphere_clearance(a, b, rad, part) >= clearance - 1e-6
         for i, j in world.pairs:
-            d = min(distance(gi, ti, gj, tj) for bi, gi, ti, *_ in caps for bj, gj, tj, *_ in caps if (bi, bj) == (i, j))
+            d = min(distance(gi, ti, gj, tj) for bi, gi, ti, *_ in caps for bj, gj, tj, *_ in caps
+                    if (bi, bj) == (i, j))
             assert d >= clearance - 1e-6
 
 
