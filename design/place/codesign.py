@@ -15,8 +15,12 @@ import kin
 from design.metrics import structural_length
 from design.place.run import place
 from design.reach.study import ReachSettings
+from design.sweep.export import pareto_rows
 
 __all__ = ["evaluate_placed_design", "pareto_front", "CODESIGN_SETTINGS"]
+
+#: the designs no other beats on coverage, score and structural length at once (rows of a sweep)
+pareto_front = pareto_rows
 
 #: the verification effort of a co-design sweep's reach studies (per design)
 CODESIGN_SETTINGS = ReachSettings(starts=4, samples=2048, spins=6, max_iter=150)
@@ -47,20 +51,3 @@ def evaluate_placed_design(job, robot: kin.Robot, design) -> dict:
            "structural_length": length, "placement_method": res.method}
     out.update({f"placement_{c}": float(v) for c, v in zip(("x", "y", "z", "roll", "pitch", "yaw"), res.u)})
     return out
-
-
-def pareto_front(rows: list[dict], maximise=("coverage", "mean_score"), minimise=("structural_length",)) -> list[int]:
-    """Indices of the rows no other row dominates (at least as good in every metric, better in one);
-    rows missing a metric are left out."""
-    keys = list(maximise) + list(minimise)
-    ok = [i for i, r in enumerate(rows) if all(isinstance(r.get(k), (int, float)) and np.isfinite(r.get(k))
-                                              for k in keys)]
-    if not ok:
-        return []
-    A = np.array([[rows[i][k] for k in maximise] + [-rows[i][k] for k in minimise] for i in ok], float)
-    front = []
-    for a, i in zip(A, ok):
-        dominated = np.any(np.all(A >= a, axis=1) & np.any(A > a, axis=1))
-        if not dominated:
-            front.append(i)
-    return front

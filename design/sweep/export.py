@@ -20,7 +20,8 @@ import numpy as np
 from design.sweep.store import StoreError, check_existing, read_rows
 from kin.output import write_output
 
-__all__ = ["read_sweep", "sweep_table", "write_csv", "write_parquet", "best_row", "write_atomic", "pareto_front"]
+__all__ = ["read_sweep", "sweep_table", "write_csv", "write_parquet", "best_row", "write_atomic", "pareto_front",
+           "pareto_rows"]
 
 _MAXIMISE = ("coverage", "gci")
 
@@ -153,3 +154,17 @@ def pareto_front(length: np.ndarray, coverage: np.ndarray) -> np.ndarray:
             mask[i] = True
             best = C[i]
     return mask
+
+
+def pareto_rows(rows: list[dict], maximise=("coverage", "mean_score"), minimise=("structural_length",)) -> list[int]:
+    """Indices of the rows (metric name → number) no other row dominates — at least as good in every
+    metric of ``maximise`` and ``minimise``, better in one; rows missing a metric are left out.  The
+    co-design front: coverage, mean reach score and structural length."""
+    keys = list(maximise) + list(minimise)
+    ok = [i for i, r in enumerate(rows)
+          if all(isinstance(r.get(k), (int, float)) and not isinstance(r.get(k), bool) and np.isfinite(r.get(k))
+                 for k in keys)]
+    if not ok:
+        return []
+    A = np.array([[rows[i][k] for k in maximise] + [-rows[i][k] for k in minimise] for i in ok], float)
+    return [i for a, i in zip(A, ok) if not np.any(np.all(A >= a, axis=1) & np.any(A > a, axis=1))]

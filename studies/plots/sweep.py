@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from design.sweep.export import pareto_front
+from design.sweep.export import pareto_front, pareto_rows
 from studies.plots.figure import save_figure
 
 __all__ = ["plot_pareto", "plot_heatmap"]
@@ -19,7 +19,9 @@ def _done(rows: list[dict]) -> list[dict]:
 def plot_pareto(meta: dict, rows: list[dict], path, marks=()):
     """Coverage (%) against structural length (m) of every done design; the Pareto front (shorter and
     more coverage) joined by a line, refined designs marked.  ``marks``: further designs to show,
-    (label, structural length m, coverage 0..1) each (e.g. an optimiser's answer)."""
+    (label, structural length m, coverage 0..1) each (e.g. an optimiser's answer).  A co-design sweep
+    (``placement = true``: its rows have a mean reach score) colours each design by its mean score and
+    rings the designs no other beats on coverage, score and length at once."""
     done = _done(rows)
     fig = Figure(figsize=(6.4, 4.6))
     ax = fig.add_subplot(111)
@@ -27,7 +29,16 @@ def plot_pareto(meta: dict, rows: list[dict], path, marks=()):
         L = np.array([r["metrics"]["structural_length"] for r in done])
         C = 100 * np.array([r["metrics"]["coverage"] for r in done])
         refined = np.array([r["origin"] != "sample" for r in done])
-        ax.scatter(L[~refined], C[~refined], s=10, c="tab:blue", alpha=0.6, label="sample")
+        scores = [r["metrics"].get("mean_score") for r in done]
+        if all(isinstance(v, (int, float)) for v in scores):
+            sc = ax.scatter(L, C, s=22, c=scores, cmap="viridis", vmin=0, vmax=max(max(scores), 1e-9),
+                            label="design (colour: mean reach score)")
+            fig.colorbar(sc, ax=ax, label="mean reach score at its best placement")
+            f3 = pareto_rows([r["metrics"] for r in done])
+            ax.scatter(L[f3], C[f3], s=90, facecolors="none", edgecolors="k", lw=1.2,
+                       label="Pareto: coverage, score, length")
+        else:
+            ax.scatter(L[~refined], C[~refined], s=10, c="tab:blue", alpha=0.6, label="sample")
         if refined.any():
             ax.scatter(L[refined], C[refined], s=28, c="tab:orange", marker="D", label="refined")
         front = pareto_front(L, C)
