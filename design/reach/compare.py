@@ -26,6 +26,12 @@ class ReachComparison:
     score_change: np.ndarray
     labels: tuple[str, str] = ("a", "b")
 
+    def classes(self) -> np.ndarray:
+        """Per target (N,) what changed: "gained", "lost", "both" (reached by both) or "neither"."""
+        out = np.full(len(self.gained), "neither", dtype=object)
+        out[self.both], out[self.gained], out[self.lost] = "both", "gained", "lost"
+        return out.astype(str)
+
     @property
     def reasons(self) -> dict[tuple[str, str], int]:
         out: dict[tuple[str, str], int] = {}
