@@ -2,8 +2,8 @@
 differential evolution and a grid as cross-checks, every answer verified by the reach study)."""
 from design.place.nlp import NlpRun, PlacementNlp
 from design.place.region import COORDINATES, PlacementRegion, placement_transform
-from design.place.run import SCREEN, PlacementResult, place
+from design.place.run import MAX_GRID, SCREEN, PlacementResult, place
 from design.place.search import de_search, evaluate_placements, grid_placements, halton_placements
 
-__all__ = ["place", "PlacementResult", "PlacementRegion", "PlacementNlp", "NlpRun", "COORDINATES", "SCREEN",
+__all__ = ["place", "PlacementResult", "PlacementRegion", "PlacementNlp", "NlpRun", "COORDINATES", "SCREEN", "MAX_GRID",
            "placement_transform", "de_search", "evaluate_placements", "grid_placements", "halton_placements"]
