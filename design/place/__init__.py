@@ -4,9 +4,9 @@ from design.place.codesign import evaluate_placed_design, pareto_front
 from design.place.nlp import NlpRun, PlacementNlp
 from design.place.pair import PairResult, place_pair, robot_robot_clearance
 from design.place.region import COORDINATES, PlacementRegion, placement_transform
-from design.place.run import SCREEN, PlacementResult, place
+from design.place.run import MAX_GRID, SCREEN, PlacementResult, place
 from design.place.search import de_search, evaluate_placements, grid_placements, halton_placements
 
 __all__ = ["place", "place_pair", "PairResult", "robot_robot_clearance", "pareto_front", "evaluate_placed_design",
-           "PlacementResult", "PlacementRegion", "PlacementNlp", "NlpRun", "COORDINATES", "SCREEN",
+           "PlacementResult", "PlacementRegion", "PlacementNlp", "NlpRun", "COORDINATES", "SCREEN", "MAX_GRID",
            "placement_transform", "de_search", "evaluate_placements", "grid_placements", "halton_placements"]

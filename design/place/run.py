@@ -35,10 +35,12 @@ from design.reach.study import ReachProblem, ReachSettings, ReachStudy, reach_st
 from design.task.model import Dexterity, Targets, TaskError
 from kin.transforms import matrix_to_rpy
 
-__all__ = ["place", "PlacementResult", "SCREEN"]
+__all__ = ["place", "PlacementResult", "SCREEN", "MAX_GRID"]
 
 #: the light reach study that scores many placements (the verification uses the full settings)
 SCREEN = ReachSettings(starts=2, samples=2048, spins=4, max_iter=100)
+#: the most placements the grid cross-check may hold (``grid`` to the power of the free coordinates)
+MAX_GRID = 1_000_000
 
 
 @dataclass
@@ -113,6 +115,10 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
     if region is None:
         reach = float(np.abs(robot.chain.dh_table()[:, [0, 2]]).sum())
         region = PlacementRegion.around(targets.positions, reach, z=float(base0[2, 3]))
+    k = int(region.free.sum())
+    if grid and grid ** k > MAX_GRID:       # the grid is built whole: 1000 values on 3 coordinates would be 10⁹
+        raise TaskError(f"grid = {grid} values on each of the {k} free coordinates ({', '.join(region.names())}) "
+                        f"is {grid ** k:.3g} placements; at most {MAX_GRID}")
     full = ReachProblem(robot, targets, cell, clearance, windows, weights, settings, dexterity)
     light = ReachProblem(robot, targets, cell, clearance, windows,
                          dataclasses.replace(weights, dexterity_ref=full.dex_ref), SCREEN, dexterity)

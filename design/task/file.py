@@ -18,16 +18,20 @@ from kin.chain import ANGLE_UNITS, LENGTH_UNITS
 from kin.robotfile import _tname
 from kin.transforms import rpy_to_matrix
 
-__all__ = ["load_task", "loads_task", "SHAPES"]
+__all__ = ["load_task", "loads_task", "placement_region", "SHAPES", "PLACEMENT_KEYS", "MAX_PLACEMENT"]
 
 SHAPES = ("points", "box", "ring", "sphere", "toolpath")
 _TOP = ("name", "title", "robot", "length_unit", "angle_unit", "seed", "objective", "target", "dexterity", "cell",
         "clearance",
-        "constraints", "architecture")
+        "constraints", "architecture", "placement")
 _TARGET = {"points": ("file",), "box": ("min", "max", "count"),
            "ring": ("center", "r_inner", "r_outer", "count", "z", "theta"),
            "sphere": ("center", "r_inner", "r_outer", "count"), "toolpath": ("file",)}
 _ORIENT = ("orientation", "axis", "half_angle", "rpy", "tolerance", "shape")
+#: the keys of a task's ``[placement]`` table
+PLACEMENT_KEYS = ("x", "y", "z", "yaw", "tilt", "keep_out")
+#: placement coordinates and keep-out corners lie within ±this (m), as :class:`design.place.PlacementRegion`'s
+MAX_PLACEMENT = 1e4
 
 
 class _Reader(robotfile._Reader):
@@ -116,9 +120,93 @@ def loads_task(text: str, path: str | None = None, base: Path | None = None, rob
     clearance = r.number(raw.get("clearance", 0.0), "clearance", 0.0, 1.0 / ls) * ls
     if clearance and cell is None:
         raise r.fail("clearance", "needs a cell (the work cell it applies to)")
+    region = None
+    if "placement" in raw:
+        z0 = float(np.asarray(cell.base)[2, 3]) if cell is not None else 0.0
+        region = _placement(r, r.table(raw["placement"], "placement", PLACEMENT_KEYS), ls, as_, None, z0)
     return Task(name=name, robot=robot, targets=targets, dexterity=dex, objective=objective, min_coverage=min_cov,
                 total_length=total, architectures=arch, seed=seed, length_unit=lu, angle_unit=au,
-                source=path or "", cell=cell, clearance=clearance)
+                source=path or "", cell=cell, clearance=clearance, region=region)
+
+
+def placement_region(values: dict, length_unit: str = "m", angle_unit: str = "rad", base=None, z: float = 0.0,
+                     fields: dict[str, str] | None = None, source: str | None = None):
+    """A :class:`design.place.PlacementRegion` (SI) from the values of a ``[placement]`` table (keys
+    :data:`PLACEMENT_KEYS`, in ``length_unit`` and ``angle_unit``), checked as a task file's are.
+
+    A key missing from ``values`` keeps ``base``'s value (a region, SI); without ``base``, x and y are
+    required and the defaults are z = [z, z] (m), yaw a full turn, tilt 0, no keep-out rectangle.
+    ``fields`` maps a key (``""``: the region as a whole) to the name an error gives it (default
+    ``placement.KEY``); ``source`` names the file.  Every bad value raises one :class:`TaskError`."""
+    r = _Reader(source)
+    if length_unit not in LENGTH_UNITS or angle_unit not in ANGLE_UNITS:
+        raise TaskError(f"units {length_unit!r}, {angle_unit!r} unknown; allowed: {', '.join(LENGTH_UNITS)} and "
+                        f"{', '.join(ANGLE_UNITS)}", source)
+    return _placement(r, values, LENGTH_UNITS[length_unit], ANGLE_UNITS[angle_unit], base, z, fields)
+
+
+def _placement(r: _Reader, raw: dict, ls: float, as_: float, base, z0: float, fields: dict[str, str] | None = None):
+    """The ``[placement]`` table (file units) → a PlacementRegion (SI); see :func:`placement_region`."""
+    # imported here: design.place imports design.task.model
+    from design.place.region import PlacementRegion
+
+    def name(key: str) -> str:
+        return (fields or {}).get(key) or (f"placement.{key}" if key else "placement")
+
+    def interval(key: str, scale: float, limit: float, unit: str) -> tuple[float, float]:
+        a, b = r.vector(raw[key], name(key), 2)
+        if a > b:
+            raise r.fail(name(key), f"must be [low, high] with low ≤ high, got [{a:g}, {b:g}]")
+        if a * scale < -limit * (1 + 1e-12) or b * scale > limit * (1 + 1e-12):
+            raise r.fail(name(key), f"must lie within ±{limit / scale:g} ({unit}), got [{a:g}, {b:g}]")
+        return max(a * scale, -limit), min(b * scale, limit)
+
+    if base is None:
+        for key in ("x", "y"):
+            if key not in raw:
+                raise r.fail(name(key), "missing (required in a [placement] table)")
+    lu = "file length unit"
+    x = interval("x", ls, MAX_PLACEMENT, lu) if "x" in raw else base.x
+    y = interval("y", ls, MAX_PLACEMENT, lu) if "y" in raw else base.y
+    z = interval("z", ls, MAX_PLACEMENT, lu) if "z" in raw else (base.z if base is not None else (z0, z0))
+    if "yaw" in raw:
+        yaw = interval("yaw", as_, 2 * math.pi, "file angle unit")
+        if yaw[1] - yaw[0] > 2 * math.pi * (1 + 1e-12):
+            raise r.fail(name("yaw"), f"spans more than a full turn ({2 * math.pi / as_:g} file angle units)")
+    else:
+        yaw = base.yaw if base is not None else (-math.pi, math.pi)
+    if "tilt" in raw:
+        tilt = min(r.number(raw["tilt"], name("tilt"), 0.0, math.pi / 2 / as_ * (1 + 1e-12)) * as_, math.pi / 2)
+    else:
+        tilt = base.tilt if base is not None else 0.0
+    if "keep_out" in raw:
+        rects = raw["keep_out"]
+        if not isinstance(rects, list):
+            raise r.fail(name("keep_out"), f"must be a list of [x_min, x_max, y_min, y_max] rectangles, got "
+                                           f"{_tname(rects)}")
+        keep_out = []
+        for i, rect in enumerate(rects):
+            f = f"{name('keep_out')}[{i}]"
+            x0, x1, y0, y1 = r.vector(rect, f, 4)
+            if x0 >= x1 or y0 >= y1:
+                raise r.fail(f, f"must be [x_min, x_max, y_min, y_max] with min < max, got {[x0, x1, y0, y1]}")
+            if max(abs(v) for v in (x0, x1, y0, y1)) * ls > MAX_PLACEMENT:
+                raise r.fail(f, f"must lie within ±{MAX_PLACEMENT / ls:g} (file length unit)")
+            keep_out.append((x0 * ls, x1 * ls, y0 * ls, y1 * ls))
+    else:
+        keep_out = list(base.keep_out) if base is not None else []
+
+    def covers(lo: float, hi: float, a: float, b: float) -> bool:
+        # a keep-out rectangle is open (its edges may be stood on); the searches try inner points of a free range
+        return (a <= lo and hi <= b) if lo < hi else (a < lo < b)
+    for i, (x0, x1, y0, y1) in enumerate(keep_out):
+        if covers(*x, x0, x1) and covers(*y, y0, y1):
+            raise r.fail(f"{name('keep_out')}[{i}]", "covers the whole x–y range of the placement: no placement "
+                                                     "is left to try")
+    try:
+        return PlacementRegion(x, y, z, yaw, tilt, tuple(keep_out))
+    except TaskError as e:
+        raise r.fail(name(""), str(e)) from None
 
 
 def _targets(r: _Reader, raw: Any, ls: float, as_: float, base: Path, robot) -> Targets:

@@ -108,6 +108,8 @@ class Task:
     evaluate (empty: the robot's own).  ``length_unit`` / ``angle_unit`` are the units the task file
     was written in (results are reported in them).  ``cell``: the work cell (a
     :class:`planning.cell.Cell`) whose collisions rule solutions out, with ``clearance`` (m) required.
+    ``region``: where the robot's base may stand when its placement is searched (a
+    :class:`design.place.PlacementRegion`, SI; None: the placement search's default, around the targets).
     """
 
     name: str
@@ -124,6 +126,7 @@ class Task:
     source: str = ""
     cell: object | None = None
     clearance: float = 0.0
+    region: object | None = None
 
     def __post_init__(self):
         if self.objective not in OBJECTIVES:

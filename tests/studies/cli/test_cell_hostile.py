@@ -25,6 +25,7 @@ COMMANDS = {
     "clearance": ["clearance", "fanuc_lrmate200id", "0", "0", "0", "0", "-90", "0"],
     "validate-toolpath": ["validate-toolpath", "fanuc_lrmate200id", "fanuc_weld_seam"],
     "coverage": ["coverage", "fanuc_lrmate200id", "POINTS"],
+    "place": ["place", "fanuc_lrmate200id", "TASK"],
 }
 
 
@@ -36,6 +37,8 @@ def files(tmp_path_factory):
         f.write("0.1,0.2,0.3\n" * 1_000_000)
     (d / "path.csv").write_text("0,0,0,0,-90,0\n10,0,0,0,-90,0\n")
     (d / "points.csv").write_text("400,0,400\n")
+    (d / "task.toml").write_text('name = "t"\nrobot = "fanuc_lrmate200id"\nlength_unit = "mm"\nangle_unit = "deg"\n'
+                                 '[target]\nshape = "points"\nfile = "points.csv"\n')
     for name, (text, _) in BAD.items():
         (d / f"{name}.toml").write_text(text)
     return d
@@ -45,7 +48,7 @@ def files(tmp_path_factory):
 @pytest.mark.parametrize("bad", BAD)
 def test_hostile_cell_is_one_line_and_exit_2(files, command, bad, capsys):
     argv = [a.replace("PATH", str(files / "path.csv")).replace("POINTS", str(files / "points.csv"))
-            for a in COMMANDS[command]]
+            .replace("TASK", str(files / "task.toml")) for a in COMMANDS[command]]
     rc = main([*argv, "--cell", str(files / f"{bad}.toml")])
     out, err = capsys.readouterr()
     assert rc == 2, (command, bad, out, err)
