@@ -33,7 +33,7 @@ def test_good_file_in_si():
     assert t.objective == "length" and t.min_coverage == 1.0
 
 
-@pytest.mark.parametrize("name", ["planar_ring", "scara_box"])
+@pytest.mark.parametrize("name", ["planar_ring", "scara_box", "ring_codesign"])
 def test_bundled_tasks_load(name):
     assert len(load_task(f"studies/tasks/{name}.toml").targets) > 0
 
