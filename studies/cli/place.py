@@ -6,14 +6,13 @@ SI.  Exit 0 when the placement found reaches every target, 1 when some stay unre
 from __future__ import annotations
 
 import argparse
-import csv
-import io
 import math
 import sys
 from pathlib import Path
 
 from kin.output import check_output, write_output
 from studies.cli.common import EXIT_FAIL, EXIT_OK, CliInputError, bounded, seed
+from studies.cli.reach import reach_csv
 from studies.jsonio import dump
 
 #: the score's dexterity measures (:data:`design.reach.MEASURES`; not imported: ``rmt --help`` stays light)
@@ -74,19 +73,6 @@ def _fmt(v: float) -> str:
 
 def _interval(lo: float, hi: float, scale: float) -> str:
     return _fmt(lo / scale) if lo == hi else f"[{_fmt(lo / scale)}, {_fmt(hi / scale)}]"
-
-
-def _rows_csv(study) -> str:
-    """The answer's reach study, one row per target (:meth:`design.reach.ReachStudy.rows`, SI)."""
-    rows = study.rows()
-    n = len(rows[0]["q"]) if rows else 0
-    keys = [k for k in (rows[0] if rows else {}) if k != "q"]
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(keys + [f"q{i + 1}" for i in range(n)])
-    for r in rows:
-        w.writerow(["" if r[k] is None else r[k] for k in keys] + [repr(float(v)) for v in r["q"]])
-    return buf.getvalue()
 
 
 def _summary(res, task, region, ls: float, as_: float) -> list[str]:
@@ -186,7 +172,7 @@ def cmd_place(args, load_robot) -> int:
     written = []
     if out_dir is not None:
         written.append(write_output(out_dir / "placement.json", dump(out) + "\n"))
-        written.append(write_output(out_dir / "reach.csv", _rows_csv(res.study)))
+        written.append(write_output(out_dir / "reach.csv", reach_csv(res.study)))
     if args.json:
         print(dump(out))
     elif not args.quiet:
