@@ -43,6 +43,7 @@ import kin
 from design.reach.score import ScoreWeights, limit_margin
 from design.task.model import Dexterity, Targets, TaskError
 from design.task.targets import axis_frames
+from kin.ik import local_ik
 
 __all__ = ["ReachSettings", "ReachStudy", "reach_study", "REASONS", "halton_configurations", "target_variants", "ReachProblem",
            "placement_matrix"]
@@ -293,8 +294,7 @@ def _judge(pb: ReachProblem, goal: np.ndarray, q0: np.ndarray, mode: str):
     limit margin) and configuration."""
     robot, t, s = pb.robot, pb.targets, pb.settings
     R = len(goal)
-    res = robot.ik(goal, seed=0, q0=q0, mode=mode, restarts=1, rounds=1, max_iter=s.max_iter,
-                   tol_position=t.tolerance)
+    res = local_ik(robot, goal, q0, mode=mode, max_iter=s.max_iter, tol_position=t.tolerance)   # this start only
     ok = np.asarray(res.success, bool)
     Q = np.asarray(res.q).reshape(R, robot.n)
     stage = ok.astype(np.int8)
