@@ -40,6 +40,7 @@ bench: $(STAMP)
 	$(BIN)/python -m studies.benchmarks.bench_timing
 	$(BIN)/python -m studies.benchmarks.bench_design
 	$(BIN)/python -m studies.benchmarks.bench_sweep
+	$(BIN)/python -m studies.benchmarks.bench_reach
 
 clean:
 	rm -rf $(VENV) out build *.egg-info
