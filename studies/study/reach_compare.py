@@ -30,7 +30,7 @@ def comparison_document(cmp, length_scale: float = 1.0, length_unit: str = "m", 
     def place(st):
         from kin.transforms import matrix_to_rpy
         x = st.placement[:3, 3] / length_scale
-        r = np.degrees(matrix_to_rpy(st.placement[:3, :3]))
+        r = np.degrees(matrix_to_rpy(st.placement[:3, :3])) + 0.0        # no "−0"
         return f"({', '.join(f'{v:.4g}' for v in x)}) {length_unit}, rpy ({', '.join(f'{v:.3g}' for v in r)})°"
 
     rows = [["robot", a.robot, b.robot], ["cell", a.cell or "—", b.cell or "—"],
