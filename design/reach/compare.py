@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from design.reach.study import ReachStudy
+from design.reach.result import ReachStudy
 from design.task.model import TaskError
 
 __all__ = ["ReachComparison", "compare_studies"]
