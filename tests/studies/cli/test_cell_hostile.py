@@ -26,6 +26,7 @@ COMMANDS = {
     "validate-toolpath": ["validate-toolpath", "fanuc_lrmate200id", "fanuc_weld_seam"],
     "coverage": ["coverage", "fanuc_lrmate200id", "POINTS"],
     "place": ["place", "fanuc_lrmate200id", "TASK"],
+    "reach": ["reach", "fanuc_lrmate200id", "TASK"],
 }
 
 
