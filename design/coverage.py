@@ -30,7 +30,7 @@ from sklearn.neighbors import NearestNeighbors
 
 import kin
 from design.task.model import Dexterity, Targets, TaskError
-from design.task.targets import axis_frames
+from design.task.targets import orientation_variants
 
 __all__ = ["Coverage", "coverage", "coverage_of_designs", "dexterity_jacobian", "dexterity_measure",
            "seed_configurations"]
@@ -129,23 +129,6 @@ def seed_configurations(robot: kin.Robot, targets: Targets, P: np.ndarray, k: in
     return out[0] if one else out
 
 
-def _variants(targets: Targets, spins: int) -> np.ndarray | None:
-    """Target rotations (N, V, 3, 3) to try per target, or None for position-only targets."""
-    if targets.orientation == "free":
-        return None
-    if targets.orientation == "pose":
-        return targets.rotations[:, None]
-    axes = targets.axes[:, None]
-    if targets.orientation == "cone" and targets.cone_half_angle > 0:
-        F = axis_frames(targets.axes, 6)       # tilt towards six directions about the axis
-        a = targets.cone_half_angle
-        tilted = np.cos(a) * F[..., 2] + np.sin(a) * F[..., 0]
-        axes = np.concatenate([axes, tilted], axis=1)
-    N, A = axes.shape[:2]
-    R = axis_frames(axes.reshape(-1, 3), spins)        # (N·A, spins, 3, 3)
-    return R.reshape(N, A * spins, 3, 3)
-
-
 def coverage_of_designs(robot: kin.Robot, targets: Targets, dexterity: Dexterity | None, P: np.ndarray,
                         seeds: int = 4, samples: int = 5000, seed: int = 0, spins: int = 4,
                         max_iter: int = 150, cell=None, clearance: float = 0.0) -> list[Coverage]:
@@ -167,7 +150,7 @@ def coverage_of_designs(robot: kin.Robot, targets: Targets, dexterity: Dexterity
     if not (1 <= seeds <= 64) or not (seeds <= samples <= 10_000_000):
         raise TaskError(f"seeds {seeds} must be in [1, 64] and samples {samples} in [seeds, 1e7]")
     D, N, n = len(P), len(targets), robot.n
-    V = _variants(targets, spins)
+    V = orientation_variants(targets, spins)
     nv = 1 if V is None else V.shape[1]
     Qs = robot.random_configurations(samples, seed=seed)
     k = min(seeds, samples)

@@ -28,7 +28,7 @@ import numpy as np
 import kin
 from design.task.model import Task, TaskError
 
-__all__ = ["NlpStart", "DesignNlp", "solve_nlp", "IPOPT_OBJECTIVES"]
+__all__ = ["NlpStart", "DesignNlp", "solve_nlp", "IPOPT_OBJECTIVES", "orientation_terms"]
 
 IPOPT_OBJECTIVES = ("length", "coverage")
 _EPS = 1e-9
@@ -92,9 +92,11 @@ def _dexterity_terms(task: Task, J: ca.SX, margin: float) -> list[ca.SX]:
     return _minors(Gs)
 
 
-def _orientation_terms(task: Task, k: int, R: ca.SX) -> tuple[list[ca.SX], list[ca.SX]]:
-    """(equalities = 0, inequalities ≥ 0) of target k's orientation requirement."""
-    t = task.targets
+def orientation_terms(targets, k: int, R: ca.SX) -> tuple[list[ca.SX], list[ca.SX]]:
+    """(equalities = 0, inequalities ≥ 0) of target k's orientation requirement, R the tool's rotation
+    (CasADi, 3×3) in the targets' frame (:class:`design.task.model.Targets`): "pose" x·z* = y·z* =
+    y·x* = 0, z·z* ≥ 0, x·x* ≥ 0; "axis" x·a = y·a = 0, z·a ≥ 0; "cone" z·a ≥ cos(half-angle)."""
+    t = targets
     x, y, z = R[:, 0], R[:, 1], R[:, 2]
     if t.orientation == "pose":
         Rs = t.rotations[k]
@@ -144,7 +146,7 @@ class DesignNlp:
                 add(r + S[:, k], 0.0, ca.inf)
             else:
                 add(r, 0.0, 0.0)
-            eq, ineq = _orientation_terms(task, k, T[:3, :3])
+            eq, ineq = orientation_terms(task.targets, k, T[:3, :3])
             for e in eq:
                 add(e, 0.0, 0.0)
             for e in ineq:

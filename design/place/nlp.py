@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
+from design.optimise.nlp import orientation_terms
 from design.place.region import PlacementRegion
 from design.reach.score import ScoreWeights
 from design.task.model import Targets
@@ -61,20 +62,6 @@ def _rotation(r, p, y):
     return ca.vertcat(ca.horzcat(cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr),
                       ca.horzcat(sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr),
                       ca.horzcat(-sp, cp * sr, cp * cr))
-
-
-def _orientation(targets: Targets, k: int, R):
-    x, y, z = R[:, 0], R[:, 1], R[:, 2]
-    if targets.orientation == "pose":
-        Rs = targets.rotations[k]
-        xs, zs = ca.DM(Rs[:, 0]), ca.DM(Rs[:, 2])
-        return [ca.dot(x, zs), ca.dot(y, zs), ca.dot(y, xs)], [ca.dot(z, zs), ca.dot(x, xs)]
-    if targets.orientation == "axis":
-        a = ca.DM(targets.axes[k])
-        return [ca.dot(x, a), ca.dot(y, a)], [ca.dot(z, a)]
-    if targets.orientation == "cone":
-        return [], [ca.dot(z, ca.DM(targets.axes[k])) - np.cos(targets.cone_half_angle)]
-    return [], []
 
 
 class PlacementNlp:
@@ -124,7 +111,7 @@ class PlacementNlp:
             r = pos - ca.DM(targets.positions[k])
             add(r - S[:, k], -ca.inf, 0.0)
             add(r + S[:, k], 0.0, ca.inf)
-            eq, ineq = _orientation(targets, k, Rb @ T[:3, :3])
+            eq, ineq = orientation_terms(targets, k, Rb @ T[:3, :3])
             for e in eq:
                 add(e, 0.0, 0.0)
             for e in ineq:

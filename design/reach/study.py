@@ -44,6 +44,7 @@ from design.reach.score import ScoreWeights, limit_margin
 from design.reach.settings import ReachSettings
 from design.task.model import Dexterity, Targets, TaskError
 from design.task.targets import axis_frames
+from design.task.targets import orientation_variants as target_variants
 from kin.ik import local_ik
 
 __all__ = ["ReachSettings", "ReachStudy", "reach_study", "REASONS", "halton_configurations", "target_variants",
@@ -71,21 +72,6 @@ def halton_configurations(robot: kin.Robot, samples: int) -> np.ndarray:
     (its first point, the lower corner, skipped): fixed for a robot, no seed."""
     H = qmc.Halton(d=robot.n, scramble=False).random(samples + 1)[1:]
     return robot.chain.lower + H * (robot.chain.upper - robot.chain.lower)
-
-
-def target_variants(targets: Targets, spins: int) -> np.ndarray | None:
-    """The tool orientations (N, V, 3, 3) tried per target (cell frame), None for position targets."""
-    if targets.orientation == "free":
-        return None
-    if targets.orientation == "pose":
-        return targets.rotations[:, None]
-    axes = targets.axes[:, None]
-    if targets.orientation == "cone" and targets.cone_half_angle > 0:
-        F = axis_frames(targets.axes, 6)
-        a = targets.cone_half_angle
-        axes = np.concatenate([axes, np.cos(a) * F[..., 2] + np.sin(a) * F[..., 0]], axis=1)
-    N, A = axes.shape[:2]
-    return axis_frames(axes.reshape(-1, 3), spins).reshape(N, A * spins, 3, 3)
 
 
 def _lifted(robot: kin.Robot) -> kin.Robot:

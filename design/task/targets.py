@@ -13,7 +13,7 @@ import numpy as np
 
 from design.task.model import TaskError
 
-__all__ = ["box_points", "ring_points", "shell_points", "read_points_csv", "axis_frames"]
+__all__ = ["box_points", "ring_points", "shell_points", "read_points_csv", "axis_frames", "orientation_variants"]
 
 
 def box_points(lo, hi, count) -> np.ndarray:
@@ -91,3 +91,20 @@ def axis_frames(axes: np.ndarray, spins: int) -> np.ndarray:
     Y = -s * x[:, None] + c * y[:, None]
     Z = np.broadcast_to(a[:, None], X.shape)
     return np.stack([X, Y, Z], axis=-1)
+
+
+def orientation_variants(targets, spins: int) -> np.ndarray | None:
+    """The tool orientations (N, V, 3, 3) to try per target of a :class:`design.task.model.Targets`, or None
+    for position targets: "pose" its rotation; "axis" ``spins`` rotations about the tool axis;
+    "cone" those about the axis and about six axes tilted by the half-angle."""
+    if targets.orientation == "free":
+        return None
+    if targets.orientation == "pose":
+        return targets.rotations[:, None]
+    axes = targets.axes[:, None]
+    if targets.orientation == "cone" and targets.cone_half_angle > 0:
+        F = axis_frames(targets.axes, 6)
+        a = targets.cone_half_angle
+        axes = np.concatenate([axes, np.cos(a) * F[..., 2] + np.sin(a) * F[..., 0]], axis=1)
+    N, A = axes.shape[:2]
+    return axis_frames(axes.reshape(-1, 3), spins).reshape(N, A * spins, 3, 3)

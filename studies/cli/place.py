@@ -12,7 +12,7 @@ from pathlib import Path
 
 from kin.output import check_output, write_output
 from studies.cli.common import EXIT_FAIL, EXIT_OK, CliInputError, bounded, seed
-from studies.cli.reach import reach_csv
+from studies.cli.reach import reach_csv, task_cell
 from studies.jsonio import dump
 
 #: the score's dexterity measures (:data:`design.reach.MEASURES`; not imported: ``rmt --help`` stays light)
@@ -131,20 +131,7 @@ def cmd_place(args, load_robot) -> int:
         out_dir = Path(args.out) / task.name
         for name in ("placement.json", "reach.csv"):
             check_output(out_dir / name)
-    cell = task.cell
-    if args.cell is not None:
-        from planning.cell import load_cell
-        from studies.cli.common import cell_file
-        cell = load_cell(cell_file(args.cell))
-    clearance = task.clearance
-    if args.clearance is not None:
-        from planning.collision import MAX_MARGIN
-        if cell is None:
-            raise CliInputError("--clearance needs --cell (or a task file with a cell)")
-        clearance = args.clearance * ls
-        if clearance > MAX_MARGIN:
-            raise CliInputError(f"--clearance {args.clearance:g} is outside the allowed range [0, "
-                                f"{MAX_MARGIN / ls:g}] {task.length_unit}")
+    cell, clearance = task_cell(args, task, ls)
     region = _region(args, task, robot, cell)
     from design.place import MAX_GRID, place
     k = int(region.free.sum())

@@ -20,6 +20,7 @@ from studies.cli.common import (
     CliInputError,
     bounded,
     cell_file,
+    numbers,
     window_width_args,
     windows_from_args,
 )
@@ -51,14 +52,23 @@ def reach_csv(study, length_scale: float = 1.0) -> str:
     return buf.getvalue()
 
 
-def _number(text: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        raise CliInputError(f"{text!r} is not a number") from None
-    if not math.isfinite(v):
-        raise CliInputError(f"{text!r} is not a finite number")
-    return v
+def task_cell(args, task, ls: float):
+    """The work cell and the required clearance (SI) of a task, ``--cell`` and ``--clearance`` (task
+    length unit) over the task's own."""
+    cell = task.cell
+    if args.cell is not None:
+        from planning.cell import load_cell
+        cell = load_cell(cell_file(args.cell))
+    clearance = task.clearance
+    if args.clearance is not None:
+        from planning.collision import MAX_MARGIN
+        if cell is None:
+            raise CliInputError("--clearance needs --cell (or a task file with a cell)")
+        clearance = args.clearance * ls
+        if clearance > MAX_MARGIN:
+            raise CliInputError(f"--clearance {args.clearance:g} is outside the allowed range [0, "
+                                f"{MAX_MARGIN / ls:g}] {task.length_unit}")
+    return cell, clearance
 
 
 def _fmt(v: float) -> str:
@@ -114,23 +124,11 @@ def cmd_reach(args, load_robot) -> int:
         outputs["plot"] = Path(args.plot)
     for p in outputs.values():
         check_output(p)
-    cell = task.cell
-    if args.cell is not None:
-        from planning.cell import load_cell
-        cell = load_cell(cell_file(args.cell))
-    clearance = task.clearance
-    if args.clearance is not None:
-        from planning.collision import MAX_MARGIN
-        if cell is None:
-            raise CliInputError("--clearance needs --cell (or a task file with a cell)")
-        clearance = args.clearance * ls
-        if clearance > MAX_MARGIN:
-            raise CliInputError(f"--clearance {args.clearance:g} is outside the allowed range [0, "
-                                f"{MAX_MARGIN / ls:g}] {task.length_unit}")
+    cell, clearance = task_cell(args, task, ls)
     placement = None
     if args.placement is not None:
         import numpy as np
-        u = np.array([_number(t) for t in args.placement])
+        u = np.array(numbers(args.placement, "--placement"))
         placement = np.concatenate([u[:3] * ls, u[3:] * as_])
     try:
         given = {} if args.weights is None else dict(zip(("dexterity", "clearance", "limits"), args.weights))
