@@ -197,7 +197,8 @@ def to_text(e: Node) -> str:
             if isinstance(t, Num) and t.value < 0:
                 out += f" - {_num_text(-t.value)}"
             elif isinstance(t, Mul) and isinstance(t.factors[0], Num) and t.factors[0].value < 0:
-                out += f" - {to_text(neg(t))}"
+                m = neg(t)               # −(a + b) must keep its brackets: "x - (a + b)", not "x - a + b"
+                out += f" - ({to_text(m)})" if isinstance(m, Add) else f" - {to_text(m)}"
             else:
                 out += f" + {to_text(t)}"
         return out
