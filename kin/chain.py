@@ -100,6 +100,8 @@ class Joint:
     name: str | None = None
     max_velocity: float | None = None       # rad/s or m/s
     max_acceleration: float | None = None   # rad/s² or m/s²
+    #: the link's inertial model (:class:`kin.dynamics.LinkInertia`, in DH frame k); None: unknown
+    inertia: object | None = None
 
     @property
     def is_revolute(self) -> bool:
@@ -129,6 +131,10 @@ class Chain:
     task: tuple[str, ...] | None = None
     #: collision capsules (:class:`kin.geometry.RobotGeometry`); None: :func:`kin.geometry.default_geometry`
     geometry: object | None = None
+    #: a payload at the tool (:class:`kin.dynamics.LinkInertia` in the tool frame); None: none
+    payload: object | None = None
+    #: gravity in the base placement's frame (m/s², the frame below ``base``): default 9.81 m/s² down z
+    gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
 
     def __post_init__(self):
         if not self.joints:
@@ -171,6 +177,17 @@ class Chain:
             if wrong:
                 raise ChainError(f"geometry: a capsule on body {wrong[0]}; the bodies of a {self.n}-joint chain are "
                                  f"0 (base) … {self.n + 1} (tool)")
+        from kin.dynamics.inertia import LinkInertia
+        for i, j in enumerate(self.joints, 1):
+            if j.inertia is not None and not isinstance(j.inertia, LinkInertia):
+                raise ChainError(f"joint {i}: inertia must be a kin.dynamics.LinkInertia, got "
+                                 f"{type(j.inertia).__name__}")
+        if self.payload is not None and not isinstance(self.payload, LinkInertia):
+            raise ChainError(f"payload must be a kin.dynamics.LinkInertia, got {type(self.payload).__name__}")
+        g = np.asarray(self.gravity, dtype=float) if not isinstance(self.gravity, str) else np.array([np.nan])
+        if g.shape != (3,) or not np.all(np.isfinite(g)) or float(np.linalg.norm(g)) > 1e3:
+            raise ChainError(f"gravity {self.gravity!r} must be 3 finite numbers (m/s², at most 1000 in size)")
+        object.__setattr__(self, "gravity", tuple(float(x) for x in g))
         if self.task is not None:
             bad = [r for r in self.task if r not in TASK_ROWS]
             if bad or not self.task or len(set(self.task)) != len(self.task):
