@@ -110,7 +110,7 @@ def heat_map(targets: Targets, studies_: list, titles: list[str]) -> Figure:
 
 def placement_map(result, grid) -> Figure:
     """The grid's placements on the table (x, y), coloured by their value, with every method's answer."""
-    fig = Figure(figsize=(6.4, 4.8))
+    fig = Figure(figsize=(7.2, 5.4))
     ax = fig.add_subplot(1, 1, 1)
     if grid is not None:
         best = grid.value.max()
@@ -135,8 +135,9 @@ def placement_map(result, grid) -> Figure:
     ax.set_aspect("equal")
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
-    ax.legend(fontsize=7, loc="upper left")
-    ax.set_title("The table top: where the base may stand (hatched: the fixture's keep-out)", fontsize=9)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2)
+    ax.set_title("Where the base may stand (hatched: the fixture's keep-out)", fontsize=9)
+    fig.subplots_adjust(bottom=0.24)
     return fig
 
 
