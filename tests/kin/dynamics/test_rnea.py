@@ -63,6 +63,7 @@ def test_planar_2r_matches_the_closed_form():
     # one configuration: no batch axis
     assert robot.inverse_dynamics(Q[0], QD[0], QDD[0]).shape == (2,) and robot.mass_matrix(Q[0]).shape == (2, 2)
     np.testing.assert_allclose(robot.gravity(Q[0]), G[0], rtol=1e-14)
+    assert robot.mass_matrix(np.zeros((0, 2))).shape == (0, 2, 2)
 
 
 # ---- random chains ---------------------------------------------------------------------------
