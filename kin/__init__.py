@@ -16,6 +16,7 @@ from kin.errors import (
     ChainError,
     CompileError,
     ConfigurationError,
+    DynamicsError,
     GeometryError,
     JointLimitError,
     OutBufferError,
@@ -31,8 +32,8 @@ _LAZY = {"Robot", "Measures", "load_robot"}
 
 __all__ = ["Chain", "Joint", "Parameter", "Placement", "Robot", "Measures", "load_robot", "load_chain",
            "loads_robot", "dumps_robot", "save_robot", "bundled_robots", "RmtError", "RobotFileError",
-           "UnknownRobotError", "ArgumentError", "ChainError", "ConfigurationError", "GeometryError", "JointLimitError",
-           "ParameterError", "CompileError", "OutBufferError", "SettingError"]
+           "UnknownRobotError", "ArgumentError", "ChainError", "ConfigurationError", "DynamicsError", "GeometryError",
+           "JointLimitError", "ParameterError", "CompileError", "OutBufferError", "SettingError"]
 
 
 def __getattr__(name: str):

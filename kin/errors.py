@@ -37,6 +37,10 @@ class ChainError(RmtError):
     """A chain is built or transformed inconsistently (programmatic API)."""
 
 
+class DynamicsError(RmtError, ValueError):
+    """The chain cannot answer a dynamics question: no body carries inertial data (a mass)."""
+
+
 class ConfigurationError(RmtError, ValueError):
     """A joint configuration or batch has the wrong shape or non-finite values."""
 

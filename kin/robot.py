@@ -235,6 +235,47 @@ class Robot:
         """det of the task Jacobian when it is square (NaN otherwise): float or (N,)."""
         return self._measure(q, params, 3, WANT_MANIP, out)
 
+    # ---- inverse dynamics ------------------------------------------------------------------------
+    @cached_property
+    def dynamics(self):
+        """The Newton–Euler model (:class:`kin.dynamics.rnea.InverseDynamics`, built on first use);
+        :class:`~kin.errors.DynamicsError` when no body has inertial data."""
+        from kin.dynamics.rnea import InverseDynamics
+        return InverseDynamics(self.chain)
+
+    def _dyn(self, f, arrays: list[tuple[str, object]], params, shape: tuple[int, ...]):
+        """Validate q (and q̇, q̈: the same shape as q) and params, evaluate ``f`` in batch."""
+        batches = []
+        for k, (what, x) in enumerate(arrays):
+            Q, single = self.chain.as_batch(real_array(x, what, ConfigurationError), what, bounded=k == 0)
+            if k and np.shape(x) != np.shape(arrays[0][1]):
+                raise ConfigurationError(f"{what} has shape {np.shape(x)}; it must match q's {np.shape(arrays[0][1])}")
+            batches.append(Q)
+        dyn = self.dynamics
+        N = len(batches[0])
+        P = self._params(params, N)
+        batches.append(np.ascontiguousarray(np.broadcast_to(P, (N, P.shape[-1]))))
+        res = dyn.evaluate(f, batches).reshape(N, *shape)
+        return res[0] if single else res
+
+    def inverse_dynamics(self, q, qd, qdd, params=None) -> np.ndarray:
+        """Joint torques/forces τ = M(q)q̈ + c(q, q̇) + g(q) + friction (N·m or N): (n,) for one
+        configuration, (N, n) for a batch; q̇, q̈ have q's shape.  Coulomb friction uses sign(q̇),
+        so τ jumps at q̇ = 0 (:mod:`kin.dynamics.rnea`)."""
+        return self._dyn(self.dynamics.tau_function, [("q", q), ("qd", qd), ("qdd", qdd)], params, (self.n,))
+
+    def mass_matrix(self, q, params=None) -> np.ndarray:
+        """Joint-space mass matrix M(q), motor inertias included: (n, n) or (N, n, n)."""
+        return self._dyn(self.dynamics.mass_matrix_function, [("q", q)], params, (self.n, self.n))
+
+    def gravity(self, q, params=None) -> np.ndarray:
+        """Gravity torques/forces g(q) (τ at rest): (n,) or (N, n)."""
+        return self._dyn(self.dynamics.gravity_function, [("q", q)], params, (self.n,))
+
+    def coriolis(self, q, qd, params=None) -> np.ndarray:
+        """Coriolis and centrifugal torques c(q, q̇) (no friction): (n,) or (N, n)."""
+        return self._dyn(self.dynamics.coriolis_function, [("q", q), ("qd", qd)], params, (self.n,))
+
     # ---- limits -------------------------------------------------------------------------------
     def within_limits(self, q, tol: float = 0.0):
         """True where q is inside the joint limits: bool or (N,) bool."""
