@@ -187,3 +187,23 @@ def test_two_links_on_one_body_combine_by_the_parallel_axis_theorem(tmp_path):
     # about the common COM (x = -0.05): 0.01 + 0.02, and the y and z moments gain Σ m d² = 1·0.15² + 3·0.05²
     R = frame[:3, :3]
     np.testing.assert_allclose(R @ li.tensor @ R.T, np.diag([0.03, 0.03 + 0.03, 0.03 + 0.03]), atol=1e-15)
+
+
+def test_bundled_panda_carries_the_urdf_inertials():
+    """franka_panda's [joints.inertial] tables are the URDF's links 1–7, in the file's own DH frames: at
+    random configurations every body's centre of mass and tensor (base frame) equal the URDF's."""
+    import kin
+
+    path = str(erd_urdf("panda_description/urdf/panda.urdf"))
+    urdf = import_urdf(path, tip="panda_link8", convention="modified", collision=False)
+    bundled = kin.load_chain("franka_panda")
+    assert "<inertial> elements of panda_link1 to panda_link7" in bundled.source
+    assert bundled.payload is None
+    for q in kin.Robot(bundled).random_configurations(20, seed=3):
+        for F1, F2, j1, j2 in zip(frames_numpy(urdf, q)[1:], frames_numpy(bundled, q)[1:], urdf.joints,
+                                  bundled.joints):
+            a, b = j1.inertia, j2.inertia
+            assert a.mass == b.mass
+            np.testing.assert_allclose(F1[:3, :3] @ a.com + F1[:3, 3], F2[:3, :3] @ b.com + F2[:3, 3], atol=1e-12)
+            np.testing.assert_allclose(F1[:3, :3] @ a.tensor @ F1[:3, :3].T, F2[:3, :3] @ b.tensor @ F2[:3, :3].T,
+                                       atol=1e-12)
