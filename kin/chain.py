@@ -345,6 +345,13 @@ class Chain:
             caps.append(c)
         return replace(chain, geometry=replace(g, capsules=tuple(caps)))
 
+    @staticmethod
+    def _moved_inertia(joints: Sequence[Joint], transforms: Mapping[int, np.ndarray]) -> tuple[Joint, ...]:
+        """``joints`` with each body k's inertial model re-expressed by ``transforms[k]`` (old frame k →
+        new frame k), as the capsules are; the payload stays in the tool frame, which does not move."""
+        return tuple(replace(j, inertia=j.inertia.transformed(transforms[k]))
+                     if j.inertia is not None and k in transforms else j for k, j in enumerate(joints, 1))
+
     # ---- configurations --------------------------------------------------------------------
     def as_batch(self, q, what: str = "q", bounded: bool = True) -> tuple[np.ndarray, bool]:
         """Validate a configuration (n,) or batch (N, n); return (batch (N, n), was_single).
@@ -439,7 +446,8 @@ class Chain:
         # body k's frame moves back along its row's Tx(a)·Rx(α): a point p of it becomes Tx(a)·Rx(α)·p
         moves = {k: make_transform(rot_x(self.resolve(j.alpha)), [self.resolve(j.a), 0.0, 0.0])
                  for k, j in enumerate(js, 1)}
-        return self._moved_geometry(replace(self, joints=tuple(new), convention="modified", tool=tool), moves)
+        return self._moved_geometry(replace(self, joints=self._moved_inertia(new, moves), convention="modified",
+                                            tool=tool), moves)
 
     def to_standard(self) -> "Chain":
         """The same machine in standard (distal) DH.  FK is unchanged.
@@ -462,5 +470,6 @@ class Chain:
         # body k < n: the standard frame k is the modified one moved on by row k + 1's Rx(α)·Tx(a)
         moves = {k: np.linalg.inv(make_transform(rot_x(self.resolve(js[k].alpha)), [self.resolve(js[k].a), 0.0, 0.0]))
                  for k in range(len(js))}
-        return self._moved_geometry(replace(self, joints=tuple(new), convention="standard", base=base), moves)
+        return self._moved_geometry(replace(self, joints=self._moved_inertia(new, moves), convention="standard",
+                                            base=base), moves)
 

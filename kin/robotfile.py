@@ -35,9 +35,12 @@ from kin.validation import Fields, type_name
 
 ROBOT_DIR = Path(__file__).parent / "robots"
 TOP_FIELDS = ("name", "title", "source", "convention", "length_unit", "angle_unit", "joints", "base",
-              "tool", "parameters", "task", "geometry")
+              "tool", "parameters", "task", "geometry", "payload", "gravity")
 REQUIRED_TOP = ("name", "convention", "length_unit", "angle_unit", "joints")
-JOINT_FIELDS = ("type", "a", "alpha", "d", "theta", "limits", "name", "max_velocity", "max_acceleration")
+JOINT_FIELDS = ("type", "a", "alpha", "d", "theta", "limits", "name", "max_velocity", "max_acceleration",
+                "inertial")
+#: the fields of a [joints.inertial] or [payload] table (mass required; see docs/robot-files.md)
+INERTIAL_FIELDS = ("mass", "com", "inertia", "motor_inertia", "viscous", "coulomb")
 PLACEMENT_FIELDS = ("xyz", "rpy", "matrix")
 PARAMETER_FIELDS = ("value", "bounds")
 GEOMETRY_FIELDS = ("source", "radius", "allow", "over_estimate", "capsule", "sphere", "box", "cylinder")
@@ -56,6 +59,8 @@ RIGID_TOL = 1e-6
 #: makes every dexterity measure a rounding error)
 MAX_LENGTH = 1e4
 MIN_LENGTH = 1e-9
+#: the largest gravity vector (m/s²) a robot file may give, as :class:`~kin.chain.Chain` allows
+MAX_GRAVITY = 1e3
 
 
 # ---- bundled library ---------------------------------------------------------------------------
@@ -225,6 +230,8 @@ def loads_robot(text: str, path: str | None = None) -> Chain:
         for k in ("max_velocity", "max_acceleration"):
             if k in jr:
                 extra[k] = r.positive(jr[k], f"{fld}.{k}") * var_scale
+        if "inertial" in jr:
+            extra["inertia"] = _inertial(r, jr["inertial"], f"{fld}.inertial", ls, f"joint {i + 1}")
         joints.append(Joint(jtype, limits=(lo * var_scale, hi * var_scale), **dh, **extra))  # type: ignore[arg-type]
 
     base = _placement(r, doc.get("base"), "base", ls, as_)
@@ -239,14 +246,58 @@ def loads_robot(text: str, path: str | None = None) -> Chain:
             raise r.fail("task", "lists a row twice")
     title = r.string(doc.get("title", ""), "title")
     source = r.string(doc.get("source", ""), "source")
+    dyn: dict[str, Any] = {}
+    if "payload" in doc:
+        dyn["payload"] = _inertial(r, doc["payload"], "payload", ls, "payload")
+    if "gravity" in doc:
+        g = r.vector(doc["gravity"], "gravity", 3)
+        if math.hypot(*g) > MAX_GRAVITY:
+            raise r.fail("gravity", f"{g} is {math.hypot(*g):g} m/s² in size; at most {MAX_GRAVITY:g} m/s²")
+        dyn["gravity"] = tuple(g)
     try:
         chain = Chain(name=name, joints=tuple(joints), convention=convention, title=title, source=source,  # type: ignore[arg-type]
-                      length_unit=lu, angle_unit=au, base=base, tool=tool, parameters=params, task=task)
+                      length_unit=lu, angle_unit=au, base=base, tool=tool, parameters=params, task=task, **dyn)
     except ChainError as e:
         raise r.fail(None, str(e)) from None
     if "geometry" in doc:
         chain = replace(chain, geometry=_geometry(r, doc["geometry"], chain, ls, as_))
     return chain
+
+
+# ---- inertial tables ------------------------------------------------------------------------------
+def _inertial(r: _Reader, raw: Any, fld: str, ls: float, body: str):
+    """A [joints.inertial] or [payload] table → :class:`kin.dynamics.LinkInertia` (SI): mass kg, com
+    in the file length unit, inertia in kg·(file length unit)², motor_inertia, viscous, coulomb SI."""
+    from kin.dynamics.inertia import MAX_MASS, InertiaError, LinkInertia
+
+    r.table(raw, fld, INERTIAL_FIELDS)
+    if "mass" not in raw:
+        raise r.fail(f"{fld}.mass", "missing required field: the body's mass in kg")
+    mass = r.number(raw["mass"], f"{fld}.mass")
+    if not 0.0 <= mass <= MAX_MASS:
+        raise r.fail(f"{fld}.mass", f"{mass:g} kg must be in [0, {MAX_MASS:g}] kg")
+    com = r.vector(raw.get("com", [0.0, 0.0, 0.0]), f"{fld}.com", 3)
+    for i, x in enumerate(com):
+        if abs(x * ls) > MAX_LENGTH:
+            raise r.fail(f"{fld}.com[{i}]", f"{x:g} exceeds ±{MAX_LENGTH / ls:g} (file length unit; 10 km)")
+    inertia = r.vector(raw.get("inertia", [0.0] * 6), f"{fld}.inertia", 6)
+    extra = {}
+    for k in ("motor_inertia", "viscous", "coulomb"):
+        if k in raw:
+            v = r.number(raw[k], f"{fld}.{k}")
+            if v < 0:
+                raise r.fail(f"{fld}.{k}", f"must be ≥ 0, got {v:g}")
+            extra[k] = v
+    s2 = ls * ls
+    try:
+        return LinkInertia(mass, tuple(x * ls for x in com), tuple(x * s2 for x in inertia), body=body,
+                           **extra)  # type: ignore[arg-type]
+    except InertiaError as e:
+        raise r.fail(f"{fld}.inertia", f"{inertia} (kg·{_UNIT_WORD.get(ls, 'unit')}², about the centre of mass) "
+                     f"is not a rigid body's: {str(e).split(': ', 1)[-1]}") from None
+
+
+_UNIT_WORD = {1.0: "m", 1e-3: "mm", 0.0254: "in"}
 
 
 # ---- the [geometry] table ------------------------------------------------------------------------
@@ -467,6 +518,8 @@ def dumps_robot(chain: Chain) -> str:
             f"angle_unit = {_str(chain.angle_unit)}"]
     if chain.task is not None:
         out.append("task = [" + ", ".join(_str(t) for t in chain.task) + "]")
+    if chain.gravity != (0.0, 0.0, -9.81):
+        out.append(f"gravity = {_vec(chain.gravity)}")
     for j in chain.joints:
         out += ["", "[[joints]]"]
         if j.name:
@@ -482,6 +535,8 @@ def dumps_robot(chain: Chain) -> str:
             v = getattr(j, k)
             if v is not None:
                 out.append(f"{k} = {_fmt(_to_file(v, vs))}")
+        if j.inertia is not None:
+            out += ["", "[joints.inertial]", *_inertial_lines(j.inertia, ls)]
     for label, pl in (("base", chain.base), ("tool", chain.tool)):
         if pl == Placement():
             continue
@@ -500,9 +555,21 @@ def dumps_robot(chain: Chain) -> str:
         s = ls if p.kind == "length" else as_
         out += ["", f"[parameters.{_key(pname)}]", f"value = {_fmt(_to_file(p.value, s))}",
                 f"bounds = {_vec(p.bounds, s)}"]
+    if chain.payload is not None:
+        out += ["", "[payload]", *_inertial_lines(chain.payload, ls)]
     if chain.geometry is not None:
         out += _geometry_lines(chain, ls)
     return "\n".join(out) + "\n"
+
+
+def _inertial_lines(li, ls: float) -> list[str]:
+    """The keys of a [joints.inertial] or [payload] table, lengths in the file's unit."""
+    out = [f"mass = {_fmt(li.mass)}", f"com = {_vec(li.com, ls)}", f"inertia = {_vec(li.inertia, ls * ls)}"]
+    for k in ("motor_inertia", "viscous", "coulomb"):
+        v = getattr(li, k)
+        if v:
+            out.append(f"{k} = {_fmt(v)}")
+    return out
 
 
 def _geometry_lines(chain: Chain, ls: float) -> list[str]:

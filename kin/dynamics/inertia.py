@@ -99,6 +99,41 @@ class LinkInertia:
         return LinkInertia(self.mass, tuple(x * s for x in self.com), tuple(x * s * s for x in self.inertia),
                            self.motor_inertia, self.viscous, self.coulomb, self.body)
 
+    def transformed(self, T) -> "LinkInertia":
+        """The same body described in another frame: ``T`` (4×4, rigid) maps this frame's points into
+        the new frame's; the centre of mass moves, the tensor turns (R·I·Rᵀ)."""
+        T = np.asarray(T, dtype=float)
+        R, p = T[:3, :3], T[:3, 3]
+        c = R @ np.asarray(self.com) + p
+        M = R @ self.tensor @ R.T
+        M = (M + M.T) / 2
+        return LinkInertia(self.mass, tuple(float(x) for x in c),
+                           (float(M[0, 0]), float(M[1, 1]), float(M[2, 2]), float(M[0, 1]), float(M[0, 2]),
+                            float(M[1, 2])), self.motor_inertia, self.viscous, self.coulomb, self.body)
+
+    @staticmethod
+    def combined(parts, body: str = "") -> "LinkInertia":
+        """One rigid body made of ``parts`` (LinkInertia in one frame): masses add, the centre of mass
+        is the mass-weighted mean, the tensors meet at it by the parallel-axis theorem.  Motor
+        inertia and friction add too (they belong to the joint; at most one part should carry them)."""
+        parts = list(parts)
+        if not parts:
+            raise InertiaError(f"{body + ': ' if body else ''}no parts to combine")
+        m = sum(p.mass for p in parts)
+        if m == 0.0:
+            c = np.zeros(3)
+        else:
+            c = sum(p.mass * np.asarray(p.com) for p in parts) / m
+        M = np.zeros((3, 3))
+        for p in parts:
+            d = np.asarray(p.com) - c
+            M += p.tensor + p.mass * (float(d @ d) * np.eye(3) - np.outer(d, d))
+        M = (M + M.T) / 2
+        return LinkInertia(m, tuple(float(x) for x in c),
+                           (float(M[0, 0]), float(M[1, 1]), float(M[2, 2]), float(M[0, 1]), float(M[0, 2]),
+                            float(M[1, 2])), sum(p.motor_inertia for p in parts), sum(p.viscous for p in parts),
+                           sum(p.coulomb for p in parts), body)
+
     @staticmethod
     def is_close(a: "LinkInertia | None", b: "LinkInertia | None", tol: float = 1e-12) -> bool:
         if a is None or b is None:

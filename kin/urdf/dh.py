@@ -133,7 +133,8 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
     ``convention`` is "standard" or "modified"; ``name`` defaults to the URDF robot's name made
     lower-case with every other character than [a-z0-9] turned into "_".  With ``collision`` the
     links' <collision> elements become the chain's capsules (:mod:`kin.urdf.collision`: up to
-    ``max_capsules`` per mesh, ``package_dirs`` maps package names to directories).
+    ``max_capsules`` per mesh, ``package_dirs`` maps package names to directories).  The links'
+    <inertial> elements become the bodies' inertial models (:mod:`kin.urdf.inertial`).
     """
     if convention not in ("standard", "modified"):
         raise UrdfError(f"convention {convention!r} unknown; allowed: standard, modified", sc.path)
@@ -150,6 +151,11 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
         name = re.sub(r"[^a-z0-9]+", "_", sc.robot_name.lower()).strip("_") or "imported"
     elif not NAME_RE.match(name):
         raise UrdfError(f"robot name {name!r} must match [a-z0-9_]+", sc.path)
+    from dataclasses import replace
+
+    from kin.urdf.inertial import inertial_model
+    inertias, payload = inertial_model(sc, [*frames, tip])
+    joints = [replace(j, inertia=li) for j, li in zip(joints, inertias)]
     geometry = None
     if collision:
         from kin.urdf.collision import collision_geometry
@@ -159,7 +165,12 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
                   source=f"converted from the URDF file {sc.path.rsplit('/', 1)[-1]} (chain {sc.base} -> {sc.tip}) "
                          "by rmt import-urdf" + ("; continuous joints get limits of one turn [-pi, pi]"
                                                  if any(j.continuous for j in sc.joints) else ""),
-                  base=_placement(base), tool=_placement(tool))
+                  base=_placement(base), tool=_placement(tool), payload=payload)
+    if any(li is not None for li in inertias) or payload is not None:
+        note = "; inertial values from its <inertial> elements (links fixed below the tip: the payload)"
+        if sc.loose_masses:
+            note += f", left out (moved by joints off the chain): {', '.join(sc.loose_masses)}"
+        chain = replace(chain, source=chain.source + note)
     return chain.to_modified() if convention == "modified" else chain
 
 

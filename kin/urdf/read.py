@@ -46,12 +46,14 @@ class RigidLink:
     """A link rigidly attached to one body of the chain: ``body`` 0 (the base link and what is fixed
     to it), k (moved by the chain's joint k), n + 1 (the tool: the tip link and what is fixed below
     it, unless the tip is the last joint's own link); ``pose`` its frame in the base link's frame at
-    q = 0; ``collisions`` its <collision> elements (yourdfpy's)."""
+    q = 0; ``collisions`` its <collision> elements (yourdfpy's); ``inertial`` its <inertial> (yourdfpy's
+    or None)."""
 
     name: str
     body: int
     pose: np.ndarray
     collisions: tuple = ()
+    inertial: object | None = None
 
 
 @dataclass(frozen=True)
@@ -60,7 +62,8 @@ class SerialChain:
 
     ``links``: every link rigidly attached to a body of the chain (through fixed joints, in any
     branch); ``loose_links``: links that hold <collision> elements but move with a joint off the
-    chain (a gripper's fingers), which no body can carry.
+    chain (a gripper's fingers), which no body can carry; ``loose_masses``: those of the links moved
+    by joints off the chain that have a mass (their inertial values are left out too).
     """
 
     path: str
@@ -71,6 +74,7 @@ class SerialChain:
     tip_offset: np.ndarray                   # (4, 4): last joint's moving frame → tip link
     links: tuple[RigidLink, ...] = ()
     loose_links: tuple[str, ...] = ()
+    loose_masses: tuple[str, ...] = ()
 
     @property
     def n(self) -> int:
@@ -205,9 +209,9 @@ def read_serial_chain(path: str | Path, base: str | None = None, tip: str | None
         acc = np.eye(4)
     if not joints:
         raise UrdfError(f"the chain {base!r} → {tip!r} has no revolute, continuous or prismatic joint", path)
-    links, loose = _rigid_links(robot, base, tip, path_joints, parent_joint, children, len(joints))
+    links, loose, loose_masses = _rigid_links(robot, base, tip, path_joints, parent_joint, children, len(joints))
     return SerialChain(path=path, robot_name=robot.name or "", base=base, tip=tip, joints=tuple(joints),
-                       tip_offset=acc, links=links, loose_links=loose)
+                       tip_offset=acc, links=links, loose_links=loose, loose_masses=loose_masses)
 
 
 def _origin(j) -> np.ndarray:
@@ -247,10 +251,12 @@ def _rigid_links(robot, base: str, tip: str, path_joints, parent_joint, children
             else:
                 continue
             stack.append(other)
-    links = tuple(RigidLink(name, b, T, tuple(by_name[name].collisions or ()))
+    links = tuple(RigidLink(name, b, T, tuple(by_name[name].collisions or ()), by_name[name].inertial)
                   for name, (b, T) in found.items())
     loose = tuple(lk.name for lk in robot.links if lk.name not in found and lk.collisions)
-    return links, loose
+    loose_masses = tuple(lk.name for lk in robot.links if lk.name not in found and lk.inertial is not None
+                         and lk.inertial.mass)
+    return links, loose, loose_masses
 
 
 def _movable(j, origin: np.ndarray, path: str, el: str) -> UrdfJoint:

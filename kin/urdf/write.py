@@ -14,7 +14,8 @@ The collision capsules (the chain's geometry, else the default one, :attr:`kin.R
 written as <collision> elements of their body's link — URDF has no capsule, so each is a cylinder
 along its segment and a sphere of its radius on each end, exactly the same solid (a ball when the
 segment is a point).  A point p of DH frame k is Post_k·p in link k's frame, a point of frame 0 is
-base·p in ``base_link``'s, the tool frame is the ``tool`` link's.
+base·p in ``base_link``'s, the tool frame is the ``tool`` link's.  A body's inertial model (and the
+payload, on the ``tool`` link) is written as an <inertial> element placed the same way.
 """
 from __future__ import annotations
 
@@ -106,6 +107,17 @@ def _capsule(link: ET.Element, T: np.ndarray, a, b, radius: float, name: str) ->
         ET.SubElement(ET.SubElement(col, "geometry"), "sphere", radius=_num(radius))
 
 
+def _inertial(link: ET.Element, li) -> None:
+    """An <inertial> element: the centre of mass as its origin (no rotation: the tensor is written in
+    the link frame's axes)."""
+    el = ET.SubElement(link, "inertial")
+    ET.SubElement(el, "origin", xyz=" ".join(_num(v) for v in li.com), rpy="0.0 0.0 0.0")
+    ET.SubElement(el, "mass", value=_num(li.mass))
+    ixx, iyy, izz, ixy, ixz, iyz = li.inertia
+    ET.SubElement(el, "inertia", ixx=_num(ixx), ixy=_num(ixy), ixz=_num(ixz), iyy=_num(iyy), iyz=_num(iyz),
+                  izz=_num(izz))
+
+
 def _joint_names(chain: Chain) -> list[str]:
     names, seen = [], set()
     for i, nm in enumerate(chain.joint_names(), 1):
@@ -144,6 +156,9 @@ def chain_to_urdf(chain: Chain) -> str:
         for i, c in enumerate(geometry.capsules):
             if c.body == k:
                 _capsule(link, to_link[k], c.a, c.b, c.radius, f"capsule_{i}")
+        li = chain.joints[k - 1].inertia if 1 <= k <= chain.n else (chain.payload if lname == "tool" else None)
+        if li is not None:
+            _inertial(link, li.transformed(to_link[k]))
     for i, (j, jname) in enumerate(zip(chain.joints, _joint_names(chain))):
         el = ET.SubElement(robot, "joint", name=jname, type=j.type)
         ET.SubElement(el, "parent", link=links[i])
