@@ -104,9 +104,15 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
     if not isinstance(targets, Targets):
         raise TaskError(f"targets must be design.task.Targets, got {type(targets).__name__}")
     for name, v, lo, hi in (("starts", starts, 1, 64), ("candidates", candidates, 1, 100_000),
-                            ("grid", grid, 0, 1000), ("de_iterations", de_iterations, 0, 100_000)):
+                            ("grid", grid, 0, 1000), ("de_iterations", de_iterations, 0, 100_000),
+                            ("polish", polish, 0, 100)):
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not lo <= v <= hi:
             raise TaskError(f"{name} = {v!r} must be an integer in [{lo}, {hi}]")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed < 2 ** 32:
+        raise TaskError(f"seed = {seed!r} must be an integer in [0, 2³²)")
+    if isinstance(max_time, bool) or not isinstance(max_time, (int, float, np.integer, np.floating)) \
+            or not 0 < max_time <= 30 * 86_400:
+        raise TaskError(f"max_time = {max_time!r} must be a number of seconds in (0, 30 days]")
     t_start = time.perf_counter()
     weights = weights or ScoreWeights()
     settings = settings or ReachSettings()

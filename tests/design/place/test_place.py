@@ -85,7 +85,8 @@ def test_hostile_place_arguments(r2):
     reg = PlacementRegion((0, 1), (0, 1), (0, 0), yaw=(0, 0), keep_out=((-1, 2, -1, 2),))
     with pytest.raises(TaskError, match="keep-out"):
         place(r2, t, region=reg, settings=FAST)
-    for kw in (dict(starts=0), dict(grid=-1), dict(candidates=True), dict(de_iterations=1.5)):
+    for kw in (dict(starts=0), dict(grid=-1), dict(candidates=True), dict(de_iterations=1.5), dict(polish="2"),
+               dict(max_time=float("nan")), dict(max_time=0), dict(seed=-1)):
         with pytest.raises(TaskError):
             place(r2, t, settings=FAST, **kw)
 
