@@ -41,6 +41,7 @@ bench: $(STAMP)
 	$(BIN)/python -m studies.benchmarks.bench_design
 	$(BIN)/python -m studies.benchmarks.bench_sweep
 	$(BIN)/python -m studies.benchmarks.bench_reach
+	$(BIN)/python -m studies.benchmarks.bench_dynamics
 
 clean:
 	rm -rf $(VENV) out build *.egg-info

@@ -6,7 +6,7 @@ import pytest
 
 import kin
 from kin.urdf import import_urdf
-from tests.kin.urdf.test_inertial import erd_urdf
+from tests.kin.urdf.reference import erd_urdf
 
 pin = pytest.importorskip("pinocchio")
 
