@@ -26,7 +26,12 @@ def _primitives():
 def _check(mesh, tol, max_spheres, rng):
     cover = enclose_triangles(mesh.triangles, tol, max_spheres)
     S = cover.spheres
-    assert 1 <= len(S) <= max_spheres and np.all(S[:, 3] > 0)
+    assert len(S) <= max_spheres
+    np.testing.assert_array_less(0.0, S[:, 3])
+    # every sphere stays within the mesh's box grown by the over-estimate it reports
+    lo, hi = mesh.bounds
+    assert np.all((S[:, :3] - S[:, 3:]).min(axis=0) >= lo - cover.over_estimate - 1e-9)
+    assert np.all((S[:, :3] + S[:, 3:]).max(axis=0) <= hi + cover.over_estimate + 1e-9)
     pts = np.concatenate([mesh.vertices, mesh.sample(3000, seed=1)])
     assert len(uncovered(pts, S)) == 0
     # how far a sphere stands out: points of the spheres (the largest ones and 300 others, on their
