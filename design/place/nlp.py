@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
+from design.metrics import structural_length
 from design.optimise.nlp import orientation_terms
 from design.place.region import PlacementRegion
 from design.reach.score import ScoreWeights
@@ -135,7 +136,7 @@ class PlacementNlp:
         # keep-out rectangles: the base origin's x and y, bounded per solve
         for _ in region.keep_out:
             add(ca.vertcat(u[0], u[1]), -ca.inf, ca.inf)
-        reach = max(float(np.abs(chain.dh_table()[:, [0, 2]]).sum()), 0.1)
+        reach = max(structural_length(chain), 0.1)
         wsum = weights.dexterity + weights.limits + (weights.clearance if cell else 0.0)
         score = (weights.dexterity * ca.sum1(D) / dex_ref + weights.limits * ca.sum1(M)) / wsum
         f = COVERAGE_WEIGHT * ca.sum1(ca.sum2(S)) / reach - score / N

@@ -125,8 +125,7 @@ def place_pair(robots, targets: Targets, cell=None, regions: tuple[PlacementRegi
     ax, ay = ra_res.u[0], ra_res.u[1]
     keep = ((ax - half, ax + half, ay - half, ay + half),)
     if rb is None:
-        reach = float(np.abs(robots[1].chain.dh_table()[:, [0, 2]]).sum())
-        rb = PlacementRegion.around(targets.positions[share == 1], reach, z=float(ra_res.u[2]))
+        rb = PlacementRegion.default(robots[1], targets.positions[share == 1], z=float(ra_res.u[2]))
     rb = replace(rb, keep_out=tuple(rb.keep_out) + keep)
     rb_res = place(robots[1], _subset(targets, share == 1), cell, rb, clearance, settings=settings, starts=starts,
                    candidates=candidates, seed=seed, max_time=max_time / 2, progress=say)
@@ -167,8 +166,7 @@ def footprint(robot) -> float:
     """How far (m) the robot's base and first link stand out from its base axis: the largest horizontal
     distance of a capsule of body 0 or 1 from the base origin plus its radius, at the middle of the
     joint ranges (body 1 turns about the base axis for the usual arm)."""
-    from kin.geometry import default_geometry
-    geom = robot.geometry if getattr(robot, "geometry", None) is not None else default_geometry(robot.chain)
+    geom = robot.geometry                 # the robot file's capsules, else the default along the DH offsets
     F = body_frames(robot.chain, 0.5 * (robot.chain.lower + robot.chain.upper))[0]
     out = 0.05
     for c in geom.capsules:

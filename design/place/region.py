@@ -112,3 +112,10 @@ class PlacementRegion:
         P = np.asarray(targets_positions, float)
         lo, hi = P.min(axis=0) - reach, P.max(axis=0) + reach
         return cls((lo[0], hi[0]), (lo[1], hi[1]), (z, z), tilt=tilt, keep_out=keep_out)
+
+    @classmethod
+    def default(cls, robot, targets_positions: np.ndarray, z: float = 0.0) -> "PlacementRegion":
+        """The region a placement search uses when none is given: :meth:`around` the targets by the
+        robot's reach, taken as its structural length Σ(|a_i| + |d_i|) (an upper bound), z fixed, any yaw."""
+        from design.metrics import structural_length
+        return cls.around(targets_positions, structural_length(robot.chain), z=z)

@@ -31,7 +31,7 @@ from design.place.search import (
     halton_placements,
 )
 from design.reach.score import ScoreWeights
-from design.reach.study import ReachProblem, ReachSettings, ReachStudy, reach_study
+from design.reach.study import ReachProblem, ReachSettings, ReachStudy
 from design.task.model import Dexterity, Targets, TaskError
 from kin.transforms import matrix_to_rpy
 
@@ -119,8 +119,7 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
     say = progress or (lambda s: None)
     base0 = np.array(cell.base) if cell is not None else np.eye(4)
     if region is None:
-        reach = float(np.abs(robot.chain.dh_table()[:, [0, 2]]).sum())
-        region = PlacementRegion.around(targets.positions, reach, z=float(base0[2, 3]))
+        region = PlacementRegion.default(robot, targets.positions, z=float(base0[2, 3]))
     k = int(region.free.sum())
     if grid and grid ** k > MAX_GRID:       # the grid is built whole: 1000 values on 3 coordinates would be 10⁹
         raise TaskError(f"grid = {grid} values on each of the {k} free coordinates ({', '.join(region.names())}) "
@@ -133,8 +132,7 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
     verified: list[tuple[str, np.ndarray, ReachStudy]] = []
 
     def verify(name: str, u: np.ndarray, t: float, extra: dict | None = None) -> ReachStudy:
-        s = reach_study(robot, targets, cell, placement_transform(u), clearance, windows, weights, settings,
-                        dexterity)
+        s = full.study(placement_transform(u))
         verified.append((name, u, s))
         methods[name] = _verified(name, u, s, t, extra)
         return s
@@ -169,8 +167,7 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
         say(f"IPOPT start {i + 1}/{len(order)}: {run.status}, objective {run.objective:.6g}, {run.iterations} "
             f"iterations, {run.time_s:.2f} s")
     if runs:            # each run verified with its own configurations offered as one more IK start
-        studies = [reach_study(robot, targets, cell, placement_transform(r.u), clearance, windows, weights,
-                               settings, dexterity, hint=r.q) if region.allowed(r.u[None])[0] else None
+        studies = [full.study(placement_transform(r.u), hint=r.q) if region.allowed(r.u[None])[0] else None
                    for r in runs]
         vals = [s.value if s is not None else -1.0 for s in studies]
         best = int(np.argmax(vals))
@@ -198,7 +195,7 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
     if not verified:      # every search ran out of time: the best screened candidate
         verify("candidates", ev.U[ev.best()], ev.time_s, {"candidates": len(C)})
     name, u, study = max(verified, key=lambda v: v[2].value)
-    before = reach_study(robot, targets, cell, base0, clearance, windows, weights, settings, dexterity)
+    before = full.study(base0)
     notes = []
     if time.perf_counter() > deadline:
         notes.append(f"the time budget of {max_time:g} s ran out; the searches stopped early")

@@ -140,6 +140,23 @@ class ReachProblem:
         """The study at placement P (4×4): per-target arrays (see :func:`reach_study`)."""
         return _decide(self, P, *_evaluate(self, P, explain, hint), explain)
 
+    def study(self, P: np.ndarray, hint: np.ndarray | None = None) -> ReachStudy:
+        """The whole study at placement P (4×4), reasons explained (what :func:`reach_study` returns);
+        a placement search verifies its answers here, with the problem it already built."""
+        robot, t = self.robot, self.targets
+        if hint is not None and np.shape(hint) != (len(t), robot.n):
+            raise TaskError(f"hint must have shape ({len(t)}, {robot.n}), got {np.shape(hint)}")
+        d = self.run(P, explain=True, hint=hint)
+        notes = [] if self.world is not None else [
+            "no work cell: collisions not checked; the score has no clearance term"]
+        return ReachStudy(robot=robot.name, positions=t.positions.copy(), placement=np.array(P, float),
+                          reached=d["reached"], score=d["score"], dexterity=d["dexterity"], clearance=d["clearance"],
+                          limit_margin=d["limit_margin"], q=d["q"], reason=d["reason"], detail=d["detail"],
+                          obstacle=d["obstacle"], support=d["support"], settings=self.settings, weights=self.weights,
+                          dexterity_ref=self.dex_ref, cell=self.cell_name, orientation=t.orientation,
+                          required_clearance=self.clearance,
+                          windows=0 if self.windows is None else len(self.windows.windows), notes=notes)
+
     def goals(self, P: np.ndarray):
         """Targets seen from placement P (4×4): goals per row (N·V) and the starts (N, k, n)."""
         t = self.targets
@@ -333,16 +350,4 @@ def reach_study(robot: kin.Robot, targets: Targets, cell=None, placement=None, c
     P = pb.default_base if placement is None else placement_matrix(placement)
     if progress:
         progress(f"reach study: {len(targets)} targets × {pb.nv} orientation(s) × {settings.starts} starts")
-    if hint is not None and np.shape(hint) != (len(targets), robot.n):
-        raise TaskError(f"hint must have shape ({len(targets)}, {robot.n}), got {np.shape(hint)}")
-    d = pb.run(P, explain=True, hint=hint)
-    notes = []
-    if cell is None:
-        notes.append("no work cell: collisions not checked; the score has no clearance term")
-    return ReachStudy(robot=robot.name, positions=targets.positions.copy(), placement=P.copy(), reached=d["reached"],
-                      score=d["score"], dexterity=d["dexterity"], clearance=d["clearance"],
-                      limit_margin=d["limit_margin"], q=d["q"], reason=d["reason"], detail=d["detail"],
-                      obstacle=d["obstacle"], support=d["support"], settings=settings, weights=weights,
-                      dexterity_ref=pb.dex_ref, cell=pb.cell_name, orientation=targets.orientation,
-                      required_clearance=clearance, windows=0 if windows is None else len(windows.windows),
-                      notes=notes)
+    return pb.study(P, hint)

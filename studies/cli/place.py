@@ -60,8 +60,7 @@ def _region(args, task, robot, cell):
     z0 = float(np.asarray(cell.base)[2, 3]) if cell is not None else 0.0
     base = task.region
     if base is None and not {"x", "y"} <= set(values):
-        reach = float(np.abs(robot.chain.dh_table()[:, [0, 2]]).sum())        # as design.place.place
-        base = PlacementRegion.around(task.targets.positions, reach, z=z0)
+        base = PlacementRegion.default(robot, task.targets.positions, z=z0)        # as design.place.place
     if not values:
         return base
     return placement_region(values, task.length_unit, task.angle_unit, base=base, z=z0, fields=FIELDS)
