@@ -163,14 +163,21 @@ def bundled_cells() -> list[str]:
     return sorted(p.stem for p in CELL_DIR.glob("*.toml"))
 
 
-def cell_file(arg: str) -> Path:
-    """A ``--cell`` argument → an existing file: a path, or the name of a bundled cell."""
+def bundled_file(arg: str, folder: Path, what: str) -> Path:
+    """A file argument → an existing file: a path, or the name (no suffix, no folder) of a bundled
+    ``folder/NAME.toml``; else one line naming the bundled ones (``what``: "cell", "task", …)."""
     p = Path(arg)
     if p.is_file():
         return p
-    if not p.suffix and "/" not in arg and (CELL_DIR / f"{arg}.toml").is_file():
-        return CELL_DIR / f"{arg}.toml"
-    raise CliInputError(f"{arg}: no such cell file or bundled cell; bundled: {', '.join(bundled_cells())}")
+    if not p.suffix and "/" not in arg and (folder / f"{arg}.toml").is_file():
+        return folder / f"{arg}.toml"
+    bundled = ", ".join(sorted(q.stem for q in folder.glob("*.toml")))
+    raise CliInputError(f"{arg}: no such {what} file or bundled {what}; bundled: {bundled}")
+
+
+def cell_file(arg: str) -> Path:
+    """A ``--cell`` argument → an existing file: a path, or the name of a bundled cell."""
+    return bundled_file(arg, CELL_DIR, "cell")
 
 
 def cell_args(sp) -> None:

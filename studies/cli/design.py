@@ -7,7 +7,7 @@ from pathlib import Path
 
 import kin
 from kin.output import write_output
-from studies.cli.common import EXIT_FAIL, EXIT_OK, MAX_SIGMA, CliInputError, bounded, seed
+from studies.cli.common import EXIT_FAIL, EXIT_OK, MAX_SIGMA, CliInputError, bounded, bundled_file, seed
 from studies.jsonio import dump, jsonable
 
 #: bundled example task files: ``rmt optimise NAME`` finds ``NAME.toml`` here
@@ -20,12 +20,7 @@ def bundled_tasks() -> list[str]:
 
 def task_file(arg: str) -> Path:
     """A task argument → an existing file: a path, or the name of a bundled example."""
-    p = Path(arg)
-    if p.is_file():
-        return p
-    if not p.suffix and "/" not in arg and (TASK_DIR / f"{arg}.toml").is_file():
-        return TASK_DIR / f"{arg}.toml"
-    raise CliInputError(f"{arg}: no such task file or bundled task; bundled: {', '.join(bundled_tasks())}")
+    return bundled_file(arg, TASK_DIR, "task")
 
 
 def _params(robot: kin.Robot, items: list[str] | None) -> dict[str, float]:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from studies.cli.common import EXIT_FAIL, EXIT_OK, CliInputError
+from studies.cli.common import EXIT_FAIL, EXIT_OK, CliInputError, bundled_file
 from studies.jsonio import dump
 
 #: bundled example sweep files: ``rmt sweep NAME`` finds ``NAME.toml`` here
@@ -14,13 +14,7 @@ SWEEP_DIR = Path(__file__).parent.parent / "sweeps"
 
 def sweep_file(arg: str) -> Path:
     """A sweep argument → an existing file: a path, or the name of a bundled example."""
-    p = Path(arg)
-    if p.is_file():
-        return p
-    if not p.suffix and "/" not in arg and (SWEEP_DIR / f"{arg}.toml").is_file():
-        return SWEEP_DIR / f"{arg}.toml"
-    bundled = ", ".join(sorted(q.stem for q in SWEEP_DIR.glob("*.toml")))
-    raise CliInputError(f"{arg}: no such sweep file or bundled sweep; bundled: {bundled}")
+    return bundled_file(arg, SWEEP_DIR, "sweep")
 
 
 def _executor(args):

@@ -23,6 +23,7 @@ import numpy as np
 
 from kin.geometry import body_frames
 from studies.jointpath import densify
+from studies.report.view3d import add_path_controls, frame_step
 
 __all__ = ["cell_view", "capsule_mesh", "shape_mesh", "spheres_mesh", "triangles_mesh", "robot_mesh",
            "obstacle_mesh", "closest_segments", "contact_world", "CLOSEST", "MAX_MESH_TRIANGLES", "MAX_SPHERES",
@@ -425,9 +426,7 @@ def cell_view(world, q=None, *, path=None, meshes=None, title: str = "", closest
             if closest:
                 fr.append(go.Scatter3d(**d[3]))
             fig_frames.append(go.Frame(name=label, data=fr, traces=list(range(n_anim))))
-            steps.append(dict(method="animate", label=label,
-                              args=[[label], dict(mode="immediate", frame=dict(duration=0, redraw=True),
-                                                  transition=dict(duration=0))]))
+            steps.append(frame_step(label))
     fig = go.Figure(data=traces, frames=fig_frames)
     sc = np.array(ranges) / U.scale
     size = sc[:, 1] - sc[:, 0]
@@ -439,12 +438,5 @@ def cell_view(world, q=None, *, path=None, meshes=None, title: str = "", closest
                    xaxis=axis(0, "x"), yaxis=axis(1, "y"), zaxis=axis(2, "z"),
                    camera=dict(eye=dict(x=1.0, y=-1.1, z=0.65))))
     if fig_frames:
-        fig.update_layout(
-            sliders=[dict(active=active, steps=steps, currentvalue=dict(prefix="along the path (%): "),
-                          pad=dict(t=30), x=0.08, len=0.9)],
-            updatemenus=[dict(type="buttons", showactive=False, x=0.0, y=0.0, xanchor="left", yanchor="top",
-                              pad=dict(t=30),
-                              buttons=[dict(label="▶ play", method="animate",
-                                            args=[None, dict(frame=dict(duration=120, redraw=True), fromcurrent=True,
-                                                             transition=dict(duration=0))])])])
+        add_path_controls(fig, steps, active)
     return fig

@@ -25,6 +25,25 @@ DENSE_POINTS = 240
 _AXIS_COLOURS = ("#d62728", "#2ca02c", "#1f77b4")        # x red, y green, z blue (the usual RGB frames)
 
 
+def frame_step(label: str) -> dict:
+    """The slider step that shows the animation frame named ``label``."""
+    return dict(method="animate", label=label,
+                args=[[label], dict(mode="immediate", frame=dict(duration=0, redraw=True),
+                                    transition=dict(duration=0))])
+
+
+def add_path_controls(fig, steps: list[dict], active: int = 0) -> None:
+    """A slider over the frames (``steps`` from :func:`frame_step`, starting at ``active``) and a play button."""
+    fig.update_layout(
+        sliders=[dict(active=active, steps=steps, currentvalue=dict(prefix="along the path (%): "), pad=dict(t=30),
+                      x=0.08, len=0.9)],
+        updatemenus=[dict(type="buttons", showactive=False, x=0.0, y=0.0, xanchor="left", yanchor="top",
+                          pad=dict(t=30),
+                          buttons=[dict(label="▶ play", method="animate",
+                                        args=[None, dict(frame=dict(duration=120, redraw=True), fromcurrent=True,
+                                                         transition=dict(duration=0))])])])
+
+
 def _frames(robot: kin.Robot, q: np.ndarray) -> np.ndarray:
     """(n+2, 4, 4): base, joint frames 1…n, tool (SI)."""
     F, T = robot.symbolic.frames_function(np.asarray(q, float), robot.chain.parameter_values)
@@ -114,9 +133,7 @@ def robot_view(robot: kin.Robot, q, *, cloud: np.ndarray | None = None, near_sin
             name = f"{100 * k / (len(anim) - 1):.0f}" if len(anim) > 1 else "0"
             frames.append(go.Frame(name=name, data=_robot_traces(robot, qk, axis_len),
                                    traces=list(range(len(robot_traces)))))
-            steps.append(dict(method="animate", label=name,
-                              args=[[name], dict(mode="immediate", frame=dict(duration=0, redraw=True),
-                                                 transition=dict(duration=0))]))
+            steps.append(frame_step(name))
     fig = go.Figure(data=data, frames=frames)
     ax = dict(title=f"{{}} ({unit})")
     fig.update_layout(
@@ -126,12 +143,5 @@ def robot_view(robot: kin.Robot, q, *, cloud: np.ndarray | None = None, near_sin
                    yaxis=dict(title=ax["title"].format("y")), zaxis=dict(title=ax["title"].format("z"))),
     )
     if frames:
-        fig.update_layout(
-            sliders=[dict(active=0, steps=steps, currentvalue=dict(prefix="along the path (%): "), pad=dict(t=30),
-                          x=0.08, len=0.9)],
-            updatemenus=[dict(type="buttons", showactive=False, x=0.0, y=0.0, xanchor="left", yanchor="top",
-                              pad=dict(t=30),
-                              buttons=[dict(label="▶ play", method="animate",
-                                            args=[None, dict(frame=dict(duration=120, redraw=True), fromcurrent=True,
-                                                             transition=dict(duration=0))])])])
+        add_path_controls(fig, steps)
     return fig
