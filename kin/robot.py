@@ -276,6 +276,14 @@ class Robot:
         """Coriolis and centrifugal torques c(q, q̇) (no friction): (n,) or (N, n)."""
         return self._dyn(self.dynamics.coriolis_function, [("q", q), ("qd", qd)], params, (self.n,))
 
+    def path_torque_coefficients(self, q, d1, d2, params=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Torque along a path q(s) traversed forwards: τ = A·s̈ + B·ṡ² + C + viscous·q′·ṡ, with q′ = ``d1``,
+        q″ = ``d2`` the path derivatives at q (same shape as q).  Returns A, B, C, each (n,) or (N, n):
+        A = M·q′, B = M·q″ + c(q, q′), C = g(q) + coulomb·sign(q′) (:mod:`kin.dynamics.rnea`)."""
+        f = self.dynamics.path_coefficients_function
+        res = self._dyn(f, [("q", q), ("d1", d1), ("d2", d2)], params, (self.n, 3))
+        return res[..., 0], res[..., 1], res[..., 2]
+
     # ---- limits -------------------------------------------------------------------------------
     def within_limits(self, q, tol: float = 0.0):
         """True where q is inside the joint limits: bool or (N,) bool."""

@@ -176,6 +176,25 @@ class InverseDynamics:
         zero = ca.DM.zeros(self.n)
         return self.rnea(self.q, self.qd, zero, np.zeros(3), friction=False)
 
+    @cached_property
+    def path_coefficients(self) -> tuple[ca.SX, ca.SX, ca.SX]:
+        """(A, B, C) (n,) each, symbolic in q, q′ = ``qd`` and q″ = ``qdd`` read as path derivatives:
+        along a path q(s) traversed forwards (ṡ ≥ 0), τ = A·s̈ + B·ṡ² + C + viscous·q′·ṡ with
+        A = M(q)·q′, B = M(q)·q″ + c(q, q′) (Coriolis and centrifugal at unit path speed), C = g(q) +
+        coulomb·sign(q′) (the sign of q̇ is the sign of q′ while ṡ > 0).  Motor inertias are in M; the
+        viscous term, not linear in ṡ², is left to the caller (:attr:`viscous`)."""
+        zero = ca.DM.zeros(self.n)
+        g0 = np.zeros(3)
+        A = self.rnea(self.q, zero, self.qd, g0, friction=False)
+        B = self.rnea(self.q, self.qd, self.qdd, g0, friction=False)
+        C = self.gravity + self._coulomb * ca.sign(self.qd)
+        return A, B, C
+
+    @property
+    def viscous(self) -> np.ndarray:
+        """Viscous friction coefficients per joint (n,) (N·m·s/rad or N·s/m)."""
+        return self._viscous.copy()
+
     # ---- casadi.Function wrappers --------------------------------------------------------------
     @cached_property
     def tau_function(self) -> ca.Function:
@@ -197,6 +216,12 @@ class InverseDynamics:
     def coriolis_function(self) -> ca.Function:
         """coriolis(q, qd, p) → c (n,)."""
         return ca.Function("coriolis", [self.q, self.qd, self.p], [self.coriolis], ["q", "qd", "p"], ["c"])
+
+    @cached_property
+    def path_coefficients_function(self) -> ca.Function:
+        """path_coefficients(q, d1, d2, p) → ABC (n×3): the columns A, B, C of :attr:`path_coefficients`."""
+        return ca.Function("path_coefficients", [self.q, self.qd, self.qdd, self.p],
+                           [ca.horzcat(*self.path_coefficients)], ["q", "d1", "d2", "p"], ["ABC"])
 
     # ---- batches --------------------------------------------------------------------------------
     def evaluate(self, f: ca.Function, args: list[np.ndarray]) -> np.ndarray:

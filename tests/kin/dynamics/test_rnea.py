@@ -300,3 +300,19 @@ def test_bad_arguments_are_refused_with_one_line(args, match):
     with pytest.raises(ConfigurationError, match=match) as e:
         robot.inverse_dynamics(*args)
     assert "\n" not in str(e.value)
+
+
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+def test_path_coefficients_reproduce_tau_along_a_path(convention):
+    """τ(q, q′ṡ, q′s̈ + q″ṡ²) of the plain numpy Newton–Euler = A·s̈ + B·ṡ² + C + viscous·q′·ṡ, at
+    several (ṡ, s̈) for the same (q, q′, q″) — including Coulomb friction (sign of q′)."""
+    chain = random_chain(5, convention, motor=True)
+    robot = kin.Robot(chain)
+    rng = np.random.default_rng(11)
+    q = rng.uniform(chain.lower, chain.upper, (4, chain.n))
+    d1, d2 = rng.normal(size=q.shape), rng.normal(size=q.shape)
+    A, B, C = robot.path_torque_coefficients(q, d1, d2)
+    vis = robot.dynamics.viscous
+    for sd, sdd in ((0.4, 2.0), (1.7, -3.0), (2.5, 0.0)):
+        ref = np.array([numpy_rnea(chain, q[k], d1[k] * sd, d1[k] * sdd + d2[k] * sd ** 2) for k in range(4)])
+        assert rel_err(A * sdd + B * sd ** 2 + C + vis * d1 * sd, ref) < 1e-12
