@@ -40,10 +40,12 @@ from planning.timing.limits import _limits, dense_ratios
 from planning.timing.qp import solve_qp
 from planning.timing.reachability import BACKENDS, reach
 from planning.timing.shaping import blend_path
+from planning.timing.spline import spline_path
 from planning.timing.stages import build_stages, sample_profile
 from planning.timing.trajectory import TimedTrajectory, TimingError
 
-__all__ = ["time_parameterize", "DEFAULT_INTERVALS", "MAX_INTERVALS", "QP_MAX_INTERVALS", "METHODS"]
+__all__ = ["time_parameterize", "DEFAULT_INTERVALS", "MAX_INTERVALS", "QP_MAX_INTERVALS", "METHODS", "SHAPES",
+           "SPLINE_INTERVALS_PER_SPAN"]
 
 #: default grid: this many intervals over the whole path (plus every piece boundary)
 DEFAULT_INTERVALS = 300
@@ -53,20 +55,29 @@ MAX_INTERVALS = 100_000
 #: iterations and the LP take seconds beyond a few thousand)
 QP_MAX_INTERVALS = 5000
 METHODS = ("reach", "qp")
-#: samples per trajectory interval of the dense re-check
+SHAPES = ("blend", "spline")
+#: default grid of ``shape="spline"``: this many intervals per span between two waypoints (at least
+#: :data:`DEFAULT_INTERVALS`); the time converges from above as the grid is refined
+SPLINE_INTERVALS_PER_SPAN = 30
+#: samples per trajectory interval of the dense re-check (fewer on fine grids: at most
+#: :data:`DENSE_SAMPLES` in all, at least one inside every interval)
 DENSE_PER_INTERVAL = 8
+DENSE_SAMPLES = 8000
 
 
 def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float = 0.05,
                       simplify: float = 1e-4, method: str = "reach", j_max=None,
-                      backend: str = "auto") -> TimedTrajectory:
+                      backend: str = "auto", shape: str = "blend") -> TimedTrajectory:
     """Minimum-time (on the grid), rest-to-rest trajectory along a joint path under per-joint limits.
 
     Parameters
     ----------
-    path : (M, n) joint waypoints (SI), joined by straight segments; corners are blended (``blend``).
+    path : (M, n) joint waypoints (SI): with ``shape="blend"`` joined by straight segments whose
+        corners are blended (``blend``); with ``shape="spline"`` by the C¹ spline through every
+        waypoint of :func:`planning.timing.spline.spline_path` (``blend`` and ``simplify`` unused).
     v_max, a_max : per-joint speed and acceleration limits, scalars or (n,) arrays, > 0.
-    ds : grid step in s (joint-space arc length); None: path length / :data:`DEFAULT_INTERVALS`.
+    ds : grid step in s (joint-space arc length); None: path length / :data:`DEFAULT_INTERVALS` (blends),
+        or :data:`SPLINE_INTERVALS_PER_SPAN` intervals per span between waypoints (spline).
         The constraints are imposed at the grid points and at every piece boundary (both sides).
     blend : corner blend half-length r (rad or m, joint-space distance); 0: stop at every corner.
     simplify : waypoint thinning tolerance (rad or m; 0: off), see :func:`blend_path`.
@@ -75,6 +86,8 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
         tightened so that the change of q̈ sampled at the grid points is at most j_max·Δt between
         consecutive ones (see :mod:`planning.timing.jerk` for exactly what is guaranteed).
     backend : for ``method="reach"``: ``"auto"`` (C when a compiler is available), ``"c"`` or ``"numpy"``.
+    shape : ``"blend"`` (default: straight segments, corners cut within ``blend``) or ``"spline"``
+        (through every waypoint exactly; faster through many closely spaced waypoints).
 
     Returns a :class:`TimedTrajectory` sampled at the grid points and piece boundaries (see the module
     docstring).  Raises :class:`TimingError` for bad input or when the solver fails.
@@ -83,7 +96,12 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
         raise TimingError(f"method = {method!r} unknown; allowed: {', '.join(METHODS)}")
     if backend not in BACKENDS:
         raise TimingError(f"backend = {backend!r} unknown; allowed: {', '.join(BACKENDS)}")
-    bp = blend_path(path, blend, simplify)
+    if shape not in SHAPES:
+        raise TimingError(f"shape = {shape!r} unknown; allowed: {', '.join(SHAPES)}")
+    if shape == "spline":
+        bp, _ = spline_path(path)
+    else:
+        bp = blend_path(path, blend, simplify)
     n = bp.n
     vmax = _limits(v_max, n, "v_max")
     amax = _limits(a_max, n, "a_max")
@@ -94,7 +112,10 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
                                np.zeros(1), 0.0, 0.0, 0.0, bp, vmax, amax, "trivial (zero-length path)",
                                method=method)
     if ds is None:
-        K = DEFAULT_INTERVALS
+        K = DEFAULT_INTERVALS if shape == "blend" else max(DEFAULT_INTERVALS, SPLINE_INTERVALS_PER_SPAN
+                                                               * (len(bp.waypoints) - 1))
+        if jmax is not None or method == "qp":
+            K = min(K, QP_MAX_INTERVALS)
     else:
         if not (isinstance(ds, (int, float, np.floating, np.integer)) and math.isfinite(ds) and ds > 0):
             raise TimingError(f"ds = {ds!r} must be a positive finite grid step (rad or m of path length)")
@@ -122,6 +143,6 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
     tr = TimedTrajectory(t=t, q=q, qd=qd, qdd=qdd, s=ks, sd=sd, sdd=sdd, duration=float(t[-1]),
                          max_velocity_ratio=vr, max_acceleration_ratio=ar, path=bp, v_max=vmax, a_max=amax,
                          qp_status=status, scale=c, grid=st.s, method=method, j_max=jmax, max_jerk_ratio=jr)
-    dv, da = dense_ratios(tr, vmax, amax, DENSE_PER_INTERVAL)
+    dv, da = dense_ratios(tr, vmax, amax, max(2, min(DENSE_PER_INTERVAL, DENSE_SAMPLES // max(len(t) - 1, 1))))
     tr.overshoot = max(dv - 1.0, da - 1.0, 0.0)
     return tr

@@ -81,10 +81,10 @@ class Stages:
         return 1.0 / worst
 
 
-def _grid(bp: BlendedPath, K: int) -> np.ndarray:
-    """Grid points s (≥ K+1): uniform, plus every stop (an unblended corner must be a grid point —
-    the trajectory is at rest there)."""
-    s = np.linspace(0.0, bp.length, K + 1)
+def _grid(bp: BlendedPath, K: int, grid: np.ndarray | None = None) -> np.ndarray:
+    """Grid points s (≥ K+1): uniform (or ``grid``), plus every stop (an unblended corner must be a
+    grid point — the trajectory is at rest there)."""
+    s = np.linspace(0.0, bp.length, K + 1) if grid is None else np.asarray(grid, dtype=float)
     if len(bp.stops):
         s = np.unique(np.r_[s, bp.stops])
         s = s[np.r_[True, np.diff(s) > 1e-12 * max(bp.length, 1.0)]]
@@ -130,13 +130,15 @@ def max_velocity_curve(d1: np.ndarray, d2: np.ndarray, amax: np.ndarray) -> np.n
     return np.minimum(pair, lone)
 
 
-def build_stages(bp: BlendedPath, K: int, vmax: np.ndarray, amax: np.ndarray, full_mvc: bool = True) -> Stages:
-    """The grid of ``K`` uniform intervals (plus stops) over ``bp`` and every row of the problem
-    (module docstring); ``vmax``, ``amax`` (n,) validated limits.  ``full_mvc=False``: ``beta`` is
-    only the speed part of the maximum velocity curve where that bounds b (still an upper bound of
-    every feasible b_i, all the reachability passes need; cheaper)."""
+def build_stages(bp: BlendedPath, K: int, vmax: np.ndarray, amax: np.ndarray, full_mvc: bool = True,
+                 grid: np.ndarray | None = None) -> Stages:
+    """The grid of ``K`` uniform intervals (plus stops) over ``bp`` — or the given increasing ``grid``
+    from 0 to the path's length (stops added) — and every row of the problem (module docstring);
+    ``vmax``, ``amax`` (n,) validated limits.  ``full_mvc=False``: ``beta`` is only the speed part of
+    the maximum velocity curve where that bounds b (still an upper bound of every feasible b_i, all
+    the reachability passes need; cheaper)."""
     n = bp.n
-    s = _grid(bp, K)
+    s = _grid(bp, K, grid)
     K = len(s) - 1
     h = np.diff(s)
     ri, rs, rp = _records(bp, s)

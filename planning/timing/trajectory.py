@@ -59,13 +59,38 @@ class BlendedPath:
         to the right of each s)."""
         s = np.atleast_1d(np.asarray(s, dtype=float))
         p = self.piece_of(s) if piece is None else np.asarray(piece)
-        ell = self.ell[p][:, None]
-        u = np.clip((s - self.s0[p]) / self.ell[p], 0.0, 1.0)[:, None]
-        P0, P1, P2 = self.ctrl[p, 0], self.ctrl[p, 1], self.ctrl[p, 2]
-        q = (1 - u) ** 2 * P0 + 2 * u * (1 - u) * P1 + u ** 2 * P2
-        d1 = 2 * ((1 - u) * (P1 - P0) + u * (P2 - P1)) / ell
-        d2 = np.broadcast_to(2 * (P0 - 2 * P1 + P2) / ell ** 2, q.shape).copy()
+        c0, c1, c2 = self._power
+        x = np.clip(s - self.s0[p], 0.0, self.ell[p])[:, None]
+        b, c = c1[p], c2[p]
+        d2 = 2.0 * c
+        d1 = b + d2 * x
+        q = c0[p] + x * (b + c * x)
         return q, d1, d2
+
+    @property
+    def _power(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Power-basis coefficients of every piece in x = s − s0: q = c0 + c1·x + c2·x² (cached)."""
+        key = (id(self.ctrl), self.ctrl.shape)
+        if getattr(self, "_power_key", None) != key:
+            P0, P1, P2 = self.ctrl[:, 0], self.ctrl[:, 1], self.ctrl[:, 2]
+            ell = self.ell[:, None]
+            self._power_cache = (P0.copy(), 2 * (P1 - P0) / ell, (P0 - 2 * P1 + P2) / ell ** 2)
+            self._power_key = key
+        return self._power_cache
+
+    def joint_range(self) -> tuple[np.ndarray, np.ndarray]:
+        """Exact smallest and largest value (n,) each of every joint along the whole path (the ends of
+        every piece and the vertex of every quadratic)."""
+        if not len(self.ell):
+            return self.waypoints[0].copy(), self.waypoints[0].copy()
+        P0, P1, P2 = self.ctrl[:, 0], self.ctrl[:, 1], self.ctrl[:, 2]
+        den = P0 - 2 * P1 + P2
+        with np.errstate(divide="ignore", invalid="ignore"):
+            u = np.where(np.abs(den) > 1e-300, (P0 - P1) / np.where(den == 0, 1.0, den), 0.0)
+        u = np.clip(u, 0.0, 1.0)
+        vert = (1 - u) ** 2 * P0 + 2 * u * (1 - u) * P1 + u ** 2 * P2
+        allv = np.concatenate([P0, P2, vert])
+        return allv.min(axis=0), allv.max(axis=0)
 
 # ---- the timed trajectory ----------------------------------------------------------------------------
 @dataclass

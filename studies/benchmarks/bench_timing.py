@@ -49,12 +49,13 @@ QUICK_REPEATS = 3
 DURATION_TOL = 0.005        # relative duration target against TOPP-RA
 
 
-def fanuc_path(seed: int = SEED, m: int = WAYPOINTS) -> np.ndarray:
-    """(m, 6) waypoints of a smooth random FANUC M-16iB/20 joint path inside its joint limits."""
+def fanuc_path(seed: int = SEED, m: int = WAYPOINTS, freq: tuple[float, float] = (0.3, 1.5)) -> np.ndarray:
+    """(m, 6) waypoints of a smooth random FANUC M-16iB/20 joint path inside its joint limits (three
+    sinusoids per joint, frequencies uniform in ``freq`` cycles over the path)."""
     lim = kin.load_robot("fanuc_m16ib20").chain.limits
     rng = np.random.default_rng(seed)
     u = np.linspace(0.0, 1.0, m)[:, None]
-    f = rng.uniform(0.3, 1.5, (3, 6))
+    f = rng.uniform(*freq, (3, 6))
     ph = rng.uniform(0, 2 * np.pi, (3, 6))
     x = sum(np.sin(2 * np.pi * f[k] * u + ph[k]) for k in range(3)) / 3.0       # in [−1, 1]
     mid, half = lim.mean(axis=1), 0.4 * (lim[:, 1] - lim[:, 0]) / 2
