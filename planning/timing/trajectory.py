@@ -6,6 +6,7 @@ SI units throughout: rad, rad/s, rad/s² for revolute joints, m, m/s, m/s² for 
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -66,6 +67,25 @@ class BlendedPath:
         d1 = b + d2 * x
         q = c0[p] + x * (b + c * x)
         return q, d1, d2
+
+    def polyline(self, tolerance: float) -> np.ndarray:
+        """Vertices (V, n) of a polyline through points of the path, in order, that stays within
+        ``tolerance`` (rad or m, joint-space distance) of it: a quadratic piece with q″ = 2·c2 lies within
+        |c2|·Δ²/4 of its chord over any parameter step Δ, so every piece is cut into equal steps with
+        |c2|·Δ² ≤ 4·tolerance.  The form a path check (:func:`planning.validate.check_path`) takes."""
+        if not (isinstance(tolerance, (int, float, np.floating)) and math.isfinite(tolerance) and tolerance > 0):
+            raise TimingError(f"tolerance = {tolerance!r} must be a positive finite distance (rad or m)")
+        if not len(self.ell):
+            return self.waypoints[:1].copy()
+        c2 = np.linalg.norm(self._power[2], axis=1)
+        steps = np.maximum(1, np.ceil(self.ell * np.sqrt(c2 / (4.0 * tolerance)) - 1e-12)).astype(int)
+        if int(steps.sum()) > 10_000_000:
+            raise TimingError(f"tolerance = {tolerance:g} needs {int(steps.sum())} polyline vertices; at most 10000000")
+        piece = np.repeat(np.arange(len(self.ell)), steps)
+        k = np.arange(len(piece)) - np.repeat(np.cumsum(steps) - steps, steps)
+        s = self.s0[piece] + self.ell[piece] * k / steps[piece]
+        q = self.evaluate(s, piece)[0]
+        return np.vstack([q, self.evaluate([self.length], [len(self.ell) - 1])[0]])
 
     @property
     def _power(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -137,3 +137,27 @@ def test_bad_shape_and_trivial_paths():
     bp, _ = spline_path([[0.0, 0.0], [1.0, 0.0]])
     assert bp.length > 0 and len(bp.ell) == 1
     assert blend_path(wavy()).n == spline_path(wavy())[0].n
+
+
+@pytest.mark.parametrize("tol", [1e-2, 1e-4])
+def test_polyline_stays_within_its_tolerance(tol):
+    """Every dense point of the path lies within ``tol`` of the polyline (distance to the nearest
+    segment computed directly), and the polyline's vertices lie on the path."""
+    bp, _ = spline_path(wavy(m=12, seed=5))
+    P = bp.polyline(tol)
+    assert np.allclose(P[0], bp.waypoints[0]) and np.allclose(P[-1], bp.waypoints[-1])
+    ss = np.linspace(0, bp.length, 4001)
+    q = bp.evaluate(ss)[0]
+    a, d = P[:-1], np.diff(P, axis=0)
+    L2 = np.einsum("ij,ij->i", d, d)
+    best = np.full(len(q), np.inf)
+    for k in range(0, len(a), 256):
+        aa, dd, ll = a[k:k + 256], d[k:k + 256], L2[k:k + 256]
+        x = q[:, None, :] - aa[None]
+        u = np.clip(np.einsum("ijk,jk->ij", x, dd) / np.where(ll > 0, ll, 1.0), 0, 1)
+        dist = np.linalg.norm(x - u[..., None] * dd[None], axis=2).min(axis=1)
+        best = np.minimum(best, dist)
+    assert best.max() <= tol * (1 + 1e-9)
+    assert best.max() >= tol / 20                   # not needlessly fine
+    with pytest.raises(TimingError, match="tolerance"):
+        bp.polyline(0.0)
