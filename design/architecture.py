@@ -48,10 +48,10 @@ def with_joint_types(chain: kin.Chain, types: str, stroke: tuple[float, float] |
             joints.append(j)
         elif t == "R":
             joints.append(replace(j, type="revolute", limits=(-math.pi, math.pi), max_velocity=None,
-                                  max_acceleration=None))
+                                  max_acceleration=None, max_torque=None))
         else:
             joints.append(replace(j, type="prismatic", limits=tuple(stroke), max_velocity=None,
-                                  max_acceleration=None))
+                                  max_acceleration=None, max_torque=None))
     name = f"{chain.name}_{types.lower()}"
     return replace(chain, name=name, joints=tuple(joints), title=f"{chain.title} as {types}")
 

@@ -100,6 +100,8 @@ class Joint:
     name: str | None = None
     max_velocity: float | None = None       # rad/s or m/s
     max_acceleration: float | None = None   # rad/s² or m/s²
+    #: the largest joint torque (N·m, revolute) or force (N, prismatic) the drive gives; None: unknown
+    max_torque: float | None = None
     #: the link's inertial model (:class:`kin.dynamics.LinkInertia`, in DH frame k); None: unknown
     inertia: object | None = None
 
@@ -177,6 +179,12 @@ class Chain:
             if wrong:
                 raise ChainError(f"geometry: a capsule on body {wrong[0]}; the bodies of a {self.n}-joint chain are "
                                  f"0 (base) … {self.n + 1} (tool)")
+        for i, j in enumerate(self.joints, 1):
+            t = j.max_torque
+            if t is not None and (isinstance(t, bool) or not isinstance(t, (int, float)) or not math.isfinite(t)
+                                  or t <= 0):
+                unit = "N·m" if j.type == "revolute" else "N"
+                raise ChainError(f"joint {i}: max_torque = {t!r} must be a positive finite number ({unit}) or None")
         from kin.dynamics.inertia import LinkInertia
         for i, j in enumerate(self.joints, 1):
             if j.inertia is not None and not isinstance(j.inertia, LinkInertia):

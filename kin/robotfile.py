@@ -38,7 +38,7 @@ TOP_FIELDS = ("name", "title", "source", "convention", "length_unit", "angle_uni
               "tool", "parameters", "task", "geometry", "payload", "gravity")
 REQUIRED_TOP = ("name", "convention", "length_unit", "angle_unit", "joints")
 JOINT_FIELDS = ("type", "a", "alpha", "d", "theta", "limits", "name", "max_velocity", "max_acceleration",
-                "inertial")
+                "max_torque", "inertial")
 #: the fields of a [joints.inertial] or [payload] table (mass required; see docs/robot-files.md)
 INERTIAL_FIELDS = ("mass", "com", "inertia", "motor_inertia", "viscous", "coulomb")
 PLACEMENT_FIELDS = ("xyz", "rpy", "matrix")
@@ -59,6 +59,8 @@ RIGID_TOL = 1e-6
 #: makes every dexterity measure a rounding error)
 MAX_LENGTH = 1e4
 MIN_LENGTH = 1e-9
+#: the largest joint torque (N·m) or force (N) a robot file may give: far beyond any machine's drive
+MAX_TORQUE = 1e7
 #: the largest gravity vector (m/s²) a robot file may give, as :class:`~kin.chain.Chain` allows
 MAX_GRAVITY = 1e3
 
@@ -230,6 +232,12 @@ def loads_robot(text: str, path: str | None = None) -> Chain:
         for k in ("max_velocity", "max_acceleration"):
             if k in jr:
                 extra[k] = r.positive(jr[k], f"{fld}.{k}") * var_scale
+        if "max_torque" in jr:      # SI whatever the file's units, as the inertial table's friction
+            unit = "N·m" if jtype == "revolute" else "N"
+            t = r.positive(jr["max_torque"], f"{fld}.max_torque")
+            if t > MAX_TORQUE:
+                raise r.fail(f"{fld}.max_torque", f"{t:g} {unit} exceeds {MAX_TORQUE:g} {unit}")
+            extra["max_torque"] = t
         if "inertial" in jr:
             extra["inertia"] = _inertial(r, jr["inertial"], f"{fld}.inertial", ls, f"joint {i + 1}")
         joints.append(Joint(jtype, limits=(lo * var_scale, hi * var_scale), **dh, **extra))  # type: ignore[arg-type]
@@ -535,6 +543,8 @@ def dumps_robot(chain: Chain) -> str:
             v = getattr(j, k)
             if v is not None:
                 out.append(f"{k} = {_fmt(_to_file(v, vs))}")
+        if j.max_torque is not None:
+            out.append(f"max_torque = {_fmt(j.max_torque)}")
         if j.inertia is not None:
             out += ["", "[joints.inertial]", *_inertial_lines(j.inertia, ls)]
     for label, pl in (("base", chain.base), ("tool", chain.tool)):

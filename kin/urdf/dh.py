@@ -145,7 +145,8 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
     for i, (uj, Fa, Fb) in enumerate(zip(sc.joints, frames[:-1], frames[1:]), 1):
         a, alpha, d, theta = _dh_of(np.linalg.solve(Fa, Fb), i, sc.path)
         joints.append(Joint(uj.type, a=_snap(a, False), alpha=_snap(alpha, True), d=_snap(d, False),
-                            theta=_snap(theta, True), limits=uj.limits, name=uj.name, max_velocity=uj.max_velocity))
+                            theta=_snap(theta, True), limits=uj.limits, name=uj.name, max_velocity=uj.max_velocity,
+                            max_torque=uj.max_torque))
     base, tool = frames[0], np.linalg.solve(frames[-1], tip)
     if name is None:
         name = re.sub(r"[^a-z0-9]+", "_", sc.robot_name.lower()).strip("_") or "imported"

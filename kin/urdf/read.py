@@ -39,6 +39,7 @@ class UrdfJoint:
     limits: tuple[float, float]
     max_velocity: float | None = None        # rad/s or m/s
     continuous: bool = False
+    max_torque: float | None = None          # N·m or N: <limit effort>; None when 0 or missing
 
 
 @dataclass(frozen=True)
@@ -273,8 +274,15 @@ def _movable(j, origin: np.ndarray, path: str, el: str) -> UrdfJoint:
     velocity = None
     if lim is not None and lim.velocity is not None and math.isfinite(lim.velocity) and lim.velocity > 0:
         velocity = float(lim.velocity)
+    effort = None      # URDF requires effort; 0 (or a missing one) is what writers put when it is unknown
+    if lim is not None and lim.effort is not None:
+        e = float(lim.effort)
+        if not math.isfinite(e) or e < 0:
+            raise UrdfError(f"<limit> effort = {e:g} must be a finite number ≥ 0 (N·m or N; 0: unknown)", path, el)
+        effort = e if e > 0 else None
     if j.type == "continuous":
-        return UrdfJoint(j.name, "revolute", origin, axis, CONTINUOUS_LIMITS, velocity, continuous=True)
+        return UrdfJoint(j.name, "revolute", origin, axis, CONTINUOUS_LIMITS, velocity, continuous=True,
+                         max_torque=effort)
     if lim is None or lim.lower is None or lim.upper is None:
         raise UrdfError(f"a {j.type} joint needs <limit lower=… upper=…>", path, el)
     lo, hi = float(lim.lower), float(lim.upper)
@@ -283,7 +291,7 @@ def _movable(j, origin: np.ndarray, path: str, el: str) -> UrdfJoint:
                         "(a joint that cannot move should be fixed)", path, el)
     if j.type == "revolute" and max(abs(lo), abs(hi)) > MAX_REVOLUTE_LIMIT:
         raise UrdfError(f"<limit> [{lo:g}, {hi:g}] rad exceeds ±8π rad, four turns", path, el)
-    return UrdfJoint(j.name, j.type, origin, axis, (lo, hi), velocity)
+    return UrdfJoint(j.name, j.type, origin, axis, (lo, hi), velocity, max_torque=effort)
 
 
 def _leaves_below(base: str, children: dict[str, list]) -> list[str]:

@@ -165,7 +165,7 @@ def chain_to_urdf(chain: Chain) -> str:
         ET.SubElement(el, "child", link=links[i + 1])
         _origin(el, origins[i])
         ET.SubElement(el, "axis", xyz="0 0 1")
-        ET.SubElement(el, "limit", lower=_num(j.limits[0]), upper=_num(j.limits[1]), effort="0",
+        ET.SubElement(el, "limit", lower=_num(j.limits[0]), upper=_num(j.limits[1]), effort=_num(j.max_torque or 0.0),
                       velocity=_num(j.max_velocity or 0.0))
     el = ET.SubElement(robot, "joint", name="tool_joint", type="fixed")
     ET.SubElement(el, "parent", link=links[-2])
