@@ -41,7 +41,7 @@ from kin.native import (
 )
 from kin.symbolic import SymbolicChain
 
-#: the batch kernel's C source (its headers beside it: sincos.h, measures.h, pyext.h)
+#: the batch kernel's C source (headers beside it: measures.h, pyext.h; shared: rmt_sincos.h and the rest)
 KERNEL = Path(__file__).resolve().with_name("kernel.c")
 
 WANT_T, WANT_J, WANT_MANIP, WANT_SIGMA = 1, 2, 4, 8
