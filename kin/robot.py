@@ -243,45 +243,71 @@ class Robot:
         from kin.dynamics.rnea import InverseDynamics
         return InverseDynamics(self.chain)
 
-    def _dyn(self, f, arrays: list[tuple[str, object]], params, shape: tuple[int, ...]):
-        """Validate q (and q̇, q̈: the same shape as q) and params, evaluate ``f`` in batch."""
+    @cached_property
+    def dynamics_evaluator(self):
+        """The inverse-dynamics evaluator (:mod:`kin.dynamics.evaluator`): compiled on first use (or
+        loaded from the cache), CasADi's VM with ``backend="vm"`` or when no compiler works.  Its
+        ``single`` (None for the VM) is the lowest-overhead entry for one configuration:
+        ``single.tau(q, qd, qdd, p)`` etc. with float64 (n,) arrays and p = ``p_nominal``."""
+        from kin.dynamics.evaluator import make_dynamics_evaluator
+        return make_dynamics_evaluator(self.dynamics, self.backend_request)
+
+    @cached_property
+    def _dyn_one(self):
+        """(extension module, nominal parameters) of the compiled single-call path, or None."""
+        ev = self.dynamics_evaluator
+        return None if ev.single is None else (ev.single, ev.p_nominal)
+
+    def _dyn(self, name: str, arrays: list[tuple[str, object]], params, shape: tuple[int, ...]):
+        """Validate q (and q̇, q̈: the same shape as q) and params, evaluate ``name`` in batch."""
         batches = []
         for k, (what, x) in enumerate(arrays):
             Q, single = self.chain.as_batch(real_array(x, what, ConfigurationError), what, bounded=k == 0)
             if k and np.shape(x) != np.shape(arrays[0][1]):
                 raise ConfigurationError(f"{what} has shape {np.shape(x)}; it must match q's {np.shape(arrays[0][1])}")
             batches.append(Q)
-        dyn = self.dynamics
-        N = len(batches[0])
-        P = self._params(params, N)
-        batches.append(np.ascontiguousarray(np.broadcast_to(P, (N, P.shape[-1]))))
-        res = dyn.evaluate(f, batches).reshape(N, *shape)
+        ev = self.dynamics_evaluator
+        res = ev.evaluate(name, batches, self._params(params, len(batches[0]))).reshape(len(batches[0]), *shape)
         return res[0] if single else res
 
+    # The single-configuration fast lane: the extension checks that every array is exactly a float64
+    # (n,) ndarray of finite values (q's prismatic joints within ±MAX_PRISMATIC) and answers None
+    # otherwise, so anything else takes the validating path above.
     def inverse_dynamics(self, q, qd, qdd, params=None) -> np.ndarray:
         """Joint torques/forces τ = M(q)q̈ + c(q, q̇) + g(q) + friction (N·m or N): (n,) for one
         configuration, (N, n) for a batch; q̇, q̈ have q's shape.  Coulomb friction uses sign(q̇),
         so τ jumps at q̇ = 0 (:mod:`kin.dynamics.rnea`)."""
-        return self._dyn(self.dynamics.tau_function, [("q", q), ("qd", qd), ("qdd", qdd)], params, (self.n,))
+        if params is None and (one := self._dyn_one) is not None and (r := one[0].tau(q, qd, qdd, one[1])) is not None:
+            return r
+        return self._dyn("tau", [("q", q), ("qd", qd), ("qdd", qdd)], params, (self.n,))
 
     def mass_matrix(self, q, params=None) -> np.ndarray:
         """Joint-space mass matrix M(q), motor inertias included: (n, n) or (N, n, n)."""
-        return self._dyn(self.dynamics.mass_matrix_function, [("q", q)], params, (self.n, self.n))
+        if params is None and (one := self._dyn_one) is not None and (r := one[0].mass_matrix(q, one[1])) is not None:
+            return r
+        return self._dyn("mass_matrix", [("q", q)], params, (self.n, self.n))
 
     def gravity(self, q, params=None) -> np.ndarray:
         """Gravity torques/forces g(q) (τ at rest): (n,) or (N, n)."""
-        return self._dyn(self.dynamics.gravity_function, [("q", q)], params, (self.n,))
+        if params is None and (one := self._dyn_one) is not None and (r := one[0].gravity(q, one[1])) is not None:
+            return r
+        return self._dyn("gravity", [("q", q)], params, (self.n,))
 
     def coriolis(self, q, qd, params=None) -> np.ndarray:
         """Coriolis and centrifugal torques c(q, q̇) (no friction): (n,) or (N, n)."""
-        return self._dyn(self.dynamics.coriolis_function, [("q", q), ("qd", qd)], params, (self.n,))
+        if params is None and (one := self._dyn_one) is not None and (r := one[0].coriolis(q, qd, one[1])) is not None:
+            return r
+        return self._dyn("coriolis", [("q", q), ("qd", qd)], params, (self.n,))
 
     def path_torque_coefficients(self, q, d1, d2, params=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Torque along a path q(s) traversed forwards: τ = A·s̈ + B·ṡ² + C + viscous·q′·ṡ, with q′ = ``d1``,
         q″ = ``d2`` the path derivatives at q (same shape as q).  Returns A, B, C, each (n,) or (N, n):
         A = M·q′, B = M·q″ + c(q, q′), C = g(q) + coulomb·sign(q′) (:mod:`kin.dynamics.rnea`)."""
-        f = self.dynamics.path_coefficients_function
-        res = self._dyn(f, [("q", q), ("d1", d1), ("d2", d2)], params, (self.n, 3))
+        res = None
+        if params is None and (one := self._dyn_one) is not None:
+            res = one[0].path_coefficients(q, d1, d2, one[1])
+        if res is None:
+            res = self._dyn("path_coefficients", [("q", q), ("d1", d1), ("d2", d2)], params, (self.n, 3))
         return res[..., 0], res[..., 1], res[..., 2]
 
     # ---- limits -------------------------------------------------------------------------------

@@ -19,8 +19,6 @@ in the arrays to fill: ``T``, ``J``, ``measures``, or single measure columns ``m
 from __future__ import annotations
 
 import ctypes
-import importlib.machinery
-import importlib.util
 import sys
 import threading
 import warnings
@@ -32,10 +30,18 @@ import numpy as np
 
 from kin.chain import MAX_PRISMATIC
 from kin.errors import ArgumentError, CompileError, OutBufferError
-from kin.native import Header, build, default_threads, find_compiler, graph_table, python_extension_flags
+from kin.native import (
+    Header,
+    build,
+    default_threads,
+    find_compiler,
+    graph_table,
+    load_extension,
+    python_extension_flags,
+)
 from kin.symbolic import SymbolicChain
 
-#: the batch kernel's C source (its headers beside it: sincos.h, measures.h, pyext.h)
+#: the batch kernel's C source (headers beside it: measures.h, pyext.h; shared: rmt_sincos.h and the rest)
 KERNEL = Path(__file__).resolve().with_name("kernel.c")
 
 WANT_T, WANT_J, WANT_MANIP, WANT_SIGMA = 1, 2, 4, 8
@@ -197,7 +203,7 @@ class CompiledEvaluator:
                 if k == len(variants) - 1:
                     raise
         self.path, self.arch, self.cached = lib.path, lib.arch, lib.cached
-        self.single = _load_extension(lib.path, lib.module_name) if extra else None
+        self.single = load_extension(lib.path, lib.module_name) if extra else None
         # the batch entry releases the GIL (CDLL); the single-configuration entry keeps it (PyDLL),
         # which is cheaper per call and, with the lock, keeps the shared buffers consistent
         self._lib = ctypes.CDLL(str(self.path))
@@ -271,26 +277,6 @@ class CompiledEvaluator:
         if self.n_p:  # the library is shared by chains of the same structure: parameters each call
             self.p1[:] = self.p_nominal
         return self._eval_g(want)
-
-
-_EXTENSIONS: dict[str, object] = {}
-
-
-def _load_extension(path: Path, name: str):
-    """The library's extension module (named ``name``, not entered in ``sys.modules``), or
-    None.  Loaded once per file: CPython re-creates a single-phase module it has seen from a cached
-    copy, by name, which must never hand one library's functions to another."""
-    key = str(path)
-    if key not in _EXTENSIONS:
-        try:
-            loader = importlib.machinery.ExtensionFileLoader(name, key)
-            spec = importlib.util.spec_from_file_location(name, key, loader=loader)
-            module = importlib.util.module_from_spec(spec)
-            loader.exec_module(module)
-        except ImportError:
-            module = None
-        _EXTENSIONS[key] = module
-    return _EXTENSIONS[key]
 
 
 def make_evaluator(sym: SymbolicChain, backend: str = "auto") -> Evaluator:

@@ -6,7 +6,7 @@
    A batch is cut into blocks of RMT_B configurations.  Each block is transposed to structure of
    arrays (joint j of lane l at [j*B + l]), then every stage is a plain loop over the lanes that the
    compiler vectorises:
-   1. sin and cos of every revolute joint value (sincos.h);
+   1. sin and cos of every revolute joint value (rmt_sincos.h);
    2. the chain's tool pose T and geometric Jacobian J from the graph table (rmt_graph.h);
    3. the dexterity measures of the task Jacobian (measures.h): manipulability and det by a
       Householder QR, sigma_min and the condition number by a one-sided Jacobi SVD;
@@ -21,7 +21,7 @@
 #include "rmt_common.h"
 #include "rmt_graph.h"
 #include "rmt_parallel.h"
-#include "sincos.h"
+#include "rmt_sincos.h"
 #include "measures.h"
 #if defined(__SSE2__)
 #include <emmintrin.h>

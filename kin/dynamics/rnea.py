@@ -85,6 +85,8 @@ class InverseDynamics:
         self.chain = chain
         self.n = n = chain.n
         self.q = ca.SX.sym("q", n)
+        self.c = ca.SX.sym("c", n)     # cos q and sin q given: the compiled kernel's inputs
+        self.s = ca.SX.sym("s", n)
         self.qd = ca.SX.sym("qd", n)
         self.qdd = ca.SX.sym("qdd", n)
         self.p = ca.SX.sym("p", len(chain.parameters))
@@ -110,15 +112,20 @@ class InverseDynamics:
         self._coulomb = np.array([0.0 if b is None else b.coulomb for b in inert])
         self.tau = self.rnea(self.q, self.qd, self.qdd, self.g0, friction=True)
 
-    def rnea(self, q, qd, qdd, g0, friction: bool = True) -> ca.SX:
+    def rnea(self, q, qd, qdd, g0, friction: bool = True, cs: tuple | None = None) -> ca.SX:
         """τ (n,) for the given (symbolic or numeric) q, q̇, q̈ and gravity g0 (frame 0); motor inertia
-        always, friction when ``friction``."""
+        always, friction when ``friction``; ``cs``: (cos q, sin q) to use instead of computing them
+        (q then read for prismatic joints only)."""
         n = self.n
         w, wd, vd = ca.SX.zeros(3), ca.SX.zeros(3), ca.SX(-ca.DM(g0))
         Rs, Ps, Fs, Ns = [], [], [], []
         for i, j in enumerate(self.chain.joints):
             X = (self._post[i - 1] if i else ca.SX.eye(4)) @ self._pre[i]
-            X = X @ (_rz_tz_cs(ca.cos(q[i]), ca.sin(q[i]), 0.0) if j.is_revolute else _rz_tz_cs(1.0, 0.0, q[i]))
+            if j.is_revolute:
+                cq, sq = (cs[0][i], cs[1][i]) if cs is not None else (ca.cos(q[i]), ca.sin(q[i]))
+                X = X @ _rz_tz_cs(cq, sq, 0.0)
+            else:
+                X = X @ _rz_tz_cs(1.0, 0.0, q[i])
             R, P = X[:3, :3], X[:3, 3]
             Rt = R.T
             vd = Rt @ (ca.cross(wd, P) + ca.cross(w, ca.cross(w, P)) + vd)
@@ -222,6 +229,31 @@ class InverseDynamics:
         """path_coefficients(q, d1, d2, p) → ABC (n×3): the columns A, B, C of :attr:`path_coefficients`."""
         return ca.Function("path_coefficients", [self.q, self.qd, self.qdd, self.p],
                            [ca.horzcat(*self.path_coefficients)], ["q", "d1", "d2", "p"], ["ABC"])
+
+    @cached_property
+    def cs_functions(self) -> dict[str, ca.Function]:
+        """The five functions with cos q and sin q as inputs (``c``, ``s``; q read for prismatic joints
+        only), for the compiled kernel, which computes them vectorised: ``tau`` (c, s, q, qd, qdd, p),
+        ``mass_matrix`` (c, s, q, p), ``gravity`` (c, s, q, p), ``coriolis`` (c, s, q, qd, p),
+        ``path_coefficients`` (c, s, q, d1, d2, p); the same operations as the functions above
+        otherwise."""
+        cs = (self.c, self.s)
+        zero, g0 = ca.DM.zeros(self.n), np.zeros(3)
+
+        def rnea(qd, qdd, grav, friction=False):
+            return self.rnea(self.q, qd, qdd, grav, friction, cs)
+
+        M = ca.horzcat(*[rnea(zero, ca.DM(np.eye(self.n)[i]), g0) for i in range(self.n)])
+        grav = rnea(zero, zero, self.g0)
+        path = ca.horzcat(rnea(zero, self.qd, g0), rnea(self.qd, self.qdd, g0),
+                          grav + self._coulomb * ca.sign(self.qd))
+        head, p = [self.c, self.s, self.q], [self.p]
+        qd, qdd = [self.qd], [self.qd, self.qdd]
+        return {"tau": ca.Function("tau_cs", head + qdd + p, [rnea(self.qd, self.qdd, self.g0, True)]),
+                "mass_matrix": ca.Function("mass_matrix_cs", head + p, [(M + M.T) / 2]),
+                "gravity": ca.Function("gravity_cs", head + p, [grav]),
+                "coriolis": ca.Function("coriolis_cs", head + qd + p, [rnea(self.qd, zero, g0)]),
+                "path_coefficients": ca.Function("path_coefficients_cs", head + qdd + p, [path])}
 
     # ---- batches --------------------------------------------------------------------------------
     def evaluate(self, f: ca.Function, args: list[np.ndarray]) -> np.ndarray:

@@ -5,14 +5,16 @@
 ``rmt_graph.h``, which evaluates a graph table).
 
 The kernels themselves sit beside the Python that loads them: ``kin/compiled/kernel.c`` (batch
-FK/Jacobian/measures and the single-call extension), ``kin/ik/ik.c`` (the batch IK solver) and
-``planning/timing/reach.c`` (TOPP-RA's reachability passes).
+FK/Jacobian/measures and the single-call extension), ``kin/dynamics/kernel.c`` (inverse dynamics,
+batch and single call), ``kin/ik/ik.c`` (the batch IK solver) and ``planning/timing/reach.c``
+(TOPP-RA's reachability passes); :func:`load_extension` loads a library built as an extension module.
 """
 from kin.native.builder import COMMON_FLAGS, NATIVE_TIMEOUT, Library, build, library_dir
+from kin.native.extension import load_extension
 from kin.native.graph import graph_table
 from kin.native.header import Header, c_double
 from kin.native.settings import cache_dir, default_threads, find_compiler, python_extension_flags, requested_arch
 
 __all__ = ["COMMON_FLAGS", "NATIVE_TIMEOUT", "Header", "Library", "build", "c_double", "cache_dir",
-           "default_threads", "find_compiler", "graph_table", "library_dir", "python_extension_flags",
+           "default_threads", "find_compiler", "graph_table", "library_dir", "load_extension", "python_extension_flags",
            "requested_arch"]

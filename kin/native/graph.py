@@ -13,8 +13,9 @@ the function's instruction list instead and writes it as three tables of numbers
 instruction for lane ``l`` of arrays of lane stride ``ld`` (element k of lane l at ``[k*ld + l]``);
 a kernel puts it inside an ``omp simd`` loop over the lanes of a block (so every statement is a
 vector operation across configurations) or evaluates one configuration (``ld = 1, l = 0``).
-Outputs are dense, column-major.  Only the scalar operations a kinematic chain produces are
-supported; any other raises :class:`~kin.errors.CompileError` (the caller then falls back).
+Outputs are dense, column-major.  Only the scalar operations a kinematic chain and its Newton–Euler
+dynamics produce (sign(q̇) of Coulomb friction included) are supported; any other raises
+:class:`~kin.errors.CompileError` (the caller then falls back).
 """
 from __future__ import annotations
 
@@ -28,7 +29,8 @@ _BINARY = {ca.OP_ADD: "ADD", ca.OP_SUB: "SUB", ca.OP_MUL: "MUL", ca.OP_DIV: "DIV
            ca.OP_COPYSIGN: "COPYSIGN"}
 _UNARY = {ca.OP_ASSIGN: "ASSIGN", ca.OP_NEG: "NEG", ca.OP_SQ: "SQ", ca.OP_TWICE: "TWICE", ca.OP_INV: "INV",
           ca.OP_SQRT: "SQRT", ca.OP_SIN: "SIN", ca.OP_COS: "COS", ca.OP_TAN: "TAN", ca.OP_FABS: "FABS",
-          ca.OP_EXP: "EXP", ca.OP_LOG: "LOG", ca.OP_ASIN: "ASIN", ca.OP_ACOS: "ACOS", ca.OP_ATAN: "ATAN"}
+          ca.OP_EXP: "EXP", ca.OP_LOG: "LOG", ca.OP_ASIN: "ASIN", ca.OP_ACOS: "ACOS", ca.OP_ATAN: "ATAN",
+          ca.OP_SIGN: "SIGN"}
 
 
 def graph_table(f: ca.Function, name: str, inputs: list[str], outputs: list[str], header: Header | None = None

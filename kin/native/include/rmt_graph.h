@@ -21,7 +21,7 @@
   G##_ZEROS(RMT_G_ZERO) \
   G##_CODE(RMT_G_IN, RMT_G_OUT, RMT_G_CONST, RMT_G_OP1, RMT_G_OP2)
 
-/* the operations (CasADi's OP_* codes of a kinematic chain) */
+/* the operations (CasADi's OP_* codes of a kinematic chain and its dynamics) */
 #define RMT_OP_ADD(x, y) x + y
 #define RMT_OP_SUB(x, y) x - y
 #define RMT_OP_MUL(x, y) x * y
@@ -46,5 +46,7 @@
 #define RMT_OP_ASIN(x) asin(x)
 #define RMT_OP_ACOS(x) acos(x)
 #define RMT_OP_ATAN(x) atan(x)
+/* CasADi's sign: -1, 1, or x itself (0, -0 and NaN pass through) */
+#define RMT_OP_SIGN(x) (x < 0 ? -1.0 : x > 0 ? 1.0 : x)
 
 #endif

@@ -1,7 +1,8 @@
 /* Sine and cosine of the revolute joints of nl lanes, vectorised across lanes.
 
    Cody-Waite reduction to |r| <= pi/4 and fdlibm's minimax kernels, branch-free; |x| > 1e6, where
-   the 3-part reduction loses bits, goes to libm.  Needs RMT_N and RMT_REVOLUTE (rmt_generated.h). */
+   the 3-part reduction loses bits, goes to libm.  Needs RMT_N and RMT_REVOLUTE (rmt_generated.h).
+   Shared by the FK kernel (kin/compiled/kernel.c) and the dynamics kernel (kin/dynamics/kernel.c). */
 #ifndef RMT_SINCOS_H
 #define RMT_SINCOS_H
 #include "rmt_common.h"
