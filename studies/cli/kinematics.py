@@ -73,7 +73,8 @@ def cmd_show(args, load_robot) -> int:
                                "bounds": [b / (c.length_scale if p.kind == "length" else c.angle_scale)
                                           for b in p.bounds], "kind": p.kind}
                            for k, p in c.parameters.items()},
-            "task_rows": [["x", "y", "z", "rx", "ry", "rz"][r] for r in robot.task_rows]}
+            "task_rows": [["x", "y", "z", "rx", "ry", "rz"][r] for r in robot.task_rows],
+            "dynamics": _dynamics_info(c)}
     if args.json:
         print(dump(info))
         return EXIT_OK
@@ -91,7 +92,27 @@ def cmd_show(args, load_robot) -> int:
             print(f"{label}:\n{_fmt_matrix(pose_to_file(c, pl.matrix))}")
     for k, p in info["parameters"].items():
         print(f"parameter {k} = {p['value']:.6g} in [{p['bounds'][0]:.6g}, {p['bounds'][1]:.6g}] ({p['kind']})")
+    d = info["dynamics"]
+    if any(j["mass_kg"] is not None or j["max_torque"] is not None for j in d["joints"]):
+        print("dynamics (SI): link mass, joint torque limit (N·m, N for prismatic joints)")
+        for i, j in enumerate(d["joints"], 1):
+            m = "—" if j["mass_kg"] is None else f"{j['mass_kg']:.6g} kg"
+            t = "—" if j["max_torque"] is None else f"{j['max_torque']:.6g}"
+            print(f"{i:>2} mass {m:>12}   max torque {t:>8}")
+        if d["payload_kg"] is not None:
+            print(f"payload {d['payload_kg']:.6g} kg")
+    else:
+        print("dynamics: no inertial data or torque limits in this robot file")
     return EXIT_OK
+
+
+def _dynamics_info(c) -> dict:
+    """Per joint: the link's mass (kg) and the joint's torque limit (N·m or N), None where unknown;
+    the payload's mass and gravity (m/s², base placement frame)."""
+    joints = [{"mass_kg": None if j.inertia is None else float(j.inertia.mass),
+               "max_torque": None if j.max_torque is None else float(j.max_torque)} for j in c.joints]
+    return {"joints": joints, "payload_kg": None if c.payload is None else float(c.payload.mass),
+            "gravity": [float(g) for g in c.gravity]}
 
 
 def cmd_fk(args, load_robot) -> int:

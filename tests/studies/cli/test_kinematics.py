@@ -199,3 +199,17 @@ def test_negative_values_in_exponent_form(capsys):
     assert code == 0
     code2, out2, _ = run(capsys, "fk", "fanuc_m16ib20", "-0.001", "-0.25", "0", "0", "0", "0", "--json")
     assert json.loads(out) == json.loads(out2)
+
+
+def test_show_lists_link_masses_and_torque_limits(capsys):
+    """The UR5e's published masses (UR's DH/dynamics article: 3.761, 8.058, 2.846, 1.37, 1.3, 0.365 kg)
+    and torque limits (150 × 3, 28 × 3 N·m) in text and JSON; a file without them says so."""
+    code, out, _ = run(capsys, "show", "ur5e", "--json")
+    d = json.loads(out)["dynamics"]
+    assert [j["mass_kg"] for j in d["joints"]] == [3.761, 8.058, 2.846, 1.37, 1.3, 0.365]
+    assert [j["max_torque"] for j in d["joints"]] == [150.0] * 3 + [28.0] * 3
+    assert d["gravity"] == [0.0, 0.0, -9.81]
+    code, out, _ = run(capsys, "show", "ur5e")
+    assert code == 0 and " 2 mass     8.058 kg   max torque      150" in out
+    code, out, _ = run(capsys, "show", "scara_rrp")
+    assert "no inertial data or torque limits" in out
