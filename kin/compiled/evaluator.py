@@ -21,7 +21,6 @@ from __future__ import annotations
 import ctypes
 import sys
 import threading
-import warnings
 from pathlib import Path
 from typing import Protocol, runtime_checkable
 
@@ -29,15 +28,15 @@ import casadi as ca
 import numpy as np
 
 from kin.chain import MAX_PRISMATIC
-from kin.errors import ArgumentError, CompileError, OutBufferError
+from kin.errors import CompileError, OutBufferError
 from kin.native import (
     Header,
     build,
     default_threads,
-    find_compiler,
     graph_table,
     load_extension,
     python_extension_flags,
+    with_fallback,
 )
 from kin.symbolic import SymbolicChain
 
@@ -285,20 +284,5 @@ def make_evaluator(sym: SymbolicChain, backend: str = "auto") -> Evaluator:
     ``backend``: ``"auto"`` (compiled, falling back to the VM with a warning), ``"compiled"`` (raise
     :class:`CompileError` instead of falling back) or ``"vm"``.
     """
-    if backend not in ("auto", "compiled", "vm"):
-        raise ArgumentError(f"backend {backend!r} unknown; allowed: auto, compiled, vm")
-    if backend == "vm":
-        return VMEvaluator(sym)
-    compiler = find_compiler()
-    if compiler is None:
-        if backend == "compiled":
-            raise CompileError("no C compiler found (set CC or RMTKIT_CC)")
-        return VMEvaluator(sym)
-    try:
-        return CompiledEvaluator(sym, compiler)
-    except (CompileError, OSError) as e:
-        if backend == "compiled":
-            raise CompileError(str(e)) from None
-        warnings.warn(f"rmtkit: compiling the kernel failed, using CasADi's VM instead ({e})", RuntimeWarning,
-                      stacklevel=2)
-        return VMEvaluator(sym)
+    return with_fallback(backend, lambda compiler: CompiledEvaluator(sym, compiler), lambda: VMEvaluator(sym),
+                         "the kernel")

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import ctypes
 import sys
-import warnings
 from pathlib import Path
 
 import casadi as ca
@@ -34,10 +33,10 @@ from kin.native import (
     Header,
     build,
     default_threads,
-    find_compiler,
     graph_table,
     load_extension,
     python_extension_flags,
+    with_fallback,
 )
 
 __all__ = ["FUNCTIONS", "STATES", "CompiledDynamics", "VMDynamics", "make_dynamics_evaluator"]
@@ -164,20 +163,5 @@ def make_dynamics_evaluator(dyn: InverseDynamics, backend: str = "auto") -> Comp
     ``backend``: ``"auto"`` (compiled, falling back to the VM with a warning), ``"compiled"`` (raise
     :class:`CompileError` instead of falling back) or ``"vm"``.
     """
-    if backend not in ("auto", "compiled", "vm"):
-        raise ArgumentError(f"backend {backend!r} unknown; allowed: auto, compiled, vm")
-    if backend == "vm":
-        return VMDynamics(dyn)
-    compiler = find_compiler()
-    if compiler is None:
-        if backend == "compiled":
-            raise CompileError("no C compiler found (set CC or RMTKIT_CC)")
-        return VMDynamics(dyn)
-    try:
-        return CompiledDynamics(dyn, compiler)
-    except (CompileError, OSError) as e:
-        if backend == "compiled":
-            raise CompileError(str(e)) from None
-        warnings.warn(f"rmtkit: compiling the dynamics kernel failed, using CasADi's VM instead ({e})",
-                      RuntimeWarning, stacklevel=2)
-        return VMDynamics(dyn)
+    return with_fallback(backend, lambda compiler: CompiledDynamics(dyn, compiler), lambda: VMDynamics(dyn),
+                         "the dynamics kernel")

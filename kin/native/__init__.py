@@ -11,10 +11,11 @@ batch and single call), ``kin/ik/ik.c`` (the batch IK solver) and ``planning/tim
 """
 from kin.native.builder import COMMON_FLAGS, NATIVE_TIMEOUT, Library, build, library_dir
 from kin.native.extension import load_extension
+from kin.native.fallback import with_fallback
 from kin.native.graph import graph_table
 from kin.native.header import Header, c_double
 from kin.native.settings import cache_dir, default_threads, find_compiler, python_extension_flags, requested_arch
 
 __all__ = ["COMMON_FLAGS", "NATIVE_TIMEOUT", "Header", "Library", "build", "c_double", "cache_dir",
            "default_threads", "find_compiler", "graph_table", "library_dir", "load_extension", "python_extension_flags",
-           "requested_arch"]
+           "requested_arch", "with_fallback"]
