@@ -132,7 +132,8 @@ def test_cycle_table_in_file_units():
     c = t.cycle
     assert c.sequence == (0, 3) and c.lift == pytest.approx(0.025)
     assert np.allclose(c.v_max, [math.radians(300), math.radians(500), 1.0])
-    assert np.allclose(c.a_max, [math.radians(1500), math.radians(3000), 10.0]) and np.allclose(c.tau_max, [32, 15, 100])
+    assert np.allclose(c.a_max, [math.radians(1500), math.radians(3000), 10.0])
+    assert np.allclose(c.tau_max, [32, 15, 100])
 
 
 @pytest.mark.parametrize("old, new, field", [
@@ -165,8 +166,8 @@ def test_sweep_stores_the_cycle_columns(tmp_path):
     from design.sweep import LocalExecutor, loads_sweep, run_sweep, sweep_table
     (tmp_path / "c.toml").write_text(TASK.replace("studies/", f"{kin.__file__.rsplit('/kin/', 1)[0]}/studies/"))
     sweep = loads_sweep('name = "s"\ntask = "c.toml"\nmetrics = ["coverage", "cycle_time", "peak_torque", '
-                        '"torque_ratio"]\n[evaluation]\nseeds = 1\nsamples = 200\n[parameters.A1]\nvalues = [200, 300]\n'
-                        '[parameters.A2]\nvalues = [250]\n', "s.toml", tmp_path)
+                        '"torque_ratio"]\n[evaluation]\nseeds = 1\nsamples = 200\n'
+                        '[parameters.A1]\nvalues = [200, 300]\n[parameters.A2]\nvalues = [250]\n', "s.toml", tmp_path)
     db = tmp_path / "s.sqlite"
     rep = run_sweep(sweep, db, LocalExecutor(workers=1))
     assert rep.counts["done"] == 2
