@@ -1,6 +1,8 @@
 """Derivative-free design optimisation: scipy's differential evolution on the verified metric
 (:func:`design.optimise.objective.evaluate_designs`), every generation verified as one IK batch
-(``vectorized=True``).  For non-smooth objectives (Q_L, GCI) and as a cross-check of IPOPT.
+(``vectorized=True``).  For non-smooth objectives (Q_L, GCI, and the cycle time and torque ratio, which
+the IPOPT NLP cannot differentiate: they pass through IK branch choices and a time-optimal timing) and
+as a cross-check of IPOPT.
 
 A total-length equality constraint is met by projection: the parameters are scaled so that
 Σ(|a_i| + |d_i|) = L (a design whose projection leaves the bounds is infeasible).
@@ -80,4 +82,5 @@ def optimise_de(task: Task, seed: int = 0, settings: VerifySettings | None = Non
                         objective_name=task.objective, objective=float(ev.value[0]), feasible=bool(ev.feasible[0]),
                         verification=ev.coverage[0], solver=solver, history=[history],
                         time_s=time.perf_counter() - t0, length_unit=task.length_unit,
-                        architecture="".join("R" if j.is_revolute else "P" for j in chain.joints))
+                        architecture="".join("R" if j.is_revolute else "P" for j in chain.joints),
+                        cycle=None if ev.cycles is None else ev.cycles[0])

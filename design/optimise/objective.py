@@ -2,8 +2,13 @@
 IPOPT re-verification, the brute-force grid and differential evolution.
 
 ``score`` is what the optimisers minimise: the structural length (m) for "length", the
-structural length index for "length_index", −coverage for "coverage", −GCI for "gci"; a design whose
+structural length index for "length_index", −coverage for "coverage", −GCI for "gci", the cycle time
+(s) for "cycle_time" and the largest peak torque over its limit for "torque_ratio"; a design whose
 verified coverage is below ``min_coverage`` gets a penalty above every feasible score.
+
+A task with a motion cycle (``task.cycle``, :mod:`design.cycle`) has every design's cycle evaluated
+too: a feasible design also reaches every stop of the cycle and keeps every peak motor torque within
+its limit (``tau_max``, where known); the penalty of one that does not grows with the excess.
 """
 from __future__ import annotations
 
@@ -32,12 +37,14 @@ class VerifySettings:
 @dataclass
 class Evaluation:
     """Verified evaluation of D designs: ``value`` (D,) the objective in its own sense (m, or a
-    fraction), ``score`` (D,) what is minimised, ``feasible`` (D,), ``coverage`` one per design."""
+    fraction), ``score`` (D,) what is minimised, ``feasible`` (D,), ``coverage`` one per design,
+    ``cycles`` one :class:`design.cycle.CycleResult` per design when the task has a cycle, else None."""
 
     value: np.ndarray
     score: np.ndarray
     feasible: np.ndarray
     coverage: list[Coverage]
+    cycles: list | None = None
 
 
 def evaluate_designs(task: Task, P: np.ndarray, settings: VerifySettings = VerifySettings()) -> Evaluation:
@@ -58,11 +65,21 @@ def evaluate_designs(task: Task, P: np.ndarray, settings: VerifySettings = Verif
                                                settings.volume_tolerance) for p in P])
     elif task.objective == "coverage":
         value, score = frac, -frac
-    else:
+    elif task.objective == "gci":
         value = np.array([c.gci for c in covs])
         score = -value
-    # infeasible designs rank after every feasible one, ordered by how much coverage they miss
+    cycles, excess = None, np.zeros(len(P))
+    if task.cycle is not None:
+        from design.cycle import evaluate_cycle
+        cycles = [evaluate_cycle(task.robot, task.cycle, task.targets, p, settings.seed) for p in P]
+        excess = np.array([0.0 if c.within_torque else 1.0 if not c.ok else c.torque_ratio - 1.0 for c in cycles])
+        feasible &= excess == 0
+        if task.objective == "cycle_time":
+            value = score = np.array([c.cycle_time for c in cycles])
+        elif task.objective == "torque_ratio":
+            value = score = np.array([c.torque_ratio if c.ok else np.inf for c in cycles])
+    # infeasible designs rank after every feasible one, ordered by how much coverage (and torque) they miss
     finite = score[np.isfinite(score)]
     top = (np.abs(finite).max() if finite.size else 1.0) + 1.0
-    score = np.where(feasible, score, top * (2 + np.maximum(task.min_coverage - frac, 0)))
-    return Evaluation(value=value, score=score, feasible=feasible, coverage=covs)
+    score = np.where(feasible, score, top * (2 + np.maximum(task.min_coverage - frac, 0) + np.minimum(excess, 1e3)))
+    return Evaluation(value=value, score=score, feasible=feasible, coverage=covs, cycles=cycles)

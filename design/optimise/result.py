@@ -18,7 +18,8 @@ class DesignResult:
     "length"); ``feasible``: the verified coverage meets ``min_coverage``; ``verification``: the
     independent coverage check; ``solver``: method-specific statistics (IPOPT's per start, or the
     DE run's); ``metrics``: further metrics of the design (:func:`design.metrics.design_metrics`);
-    ``history``: objective per iteration (one list per start); ``time_s``: wall time."""
+    ``history``: objective per iteration (one list per start); ``time_s``: wall time; ``cycle``: the
+    design's motion cycle (:class:`design.cycle.CycleResult`) when the task has one."""
 
     task: str
     method: str
@@ -34,6 +35,7 @@ class DesignResult:
     length_unit: str = "m"
     architecture: str = ""
     metrics: dict[str, Any] = field(default_factory=dict)
+    cycle: Any = None
 
     @property
     def chain(self) -> kin.Chain:
@@ -51,7 +53,9 @@ class DesignResult:
         v = self.verification
         return {"task": self.task, "method": self.method, "robot": c.name, "architecture": self.architecture,
                 "parameters": self.params_in_file_units(),
-                "units": {"parameters": c.length_unit, "objective": "m" if self.objective_name in ("length",) else "1"},
+                "units": {"parameters": c.length_unit,
+                          "objective": {"length": "m", "cycle_time": "s"}.get(self.objective_name, "1")},
                 "objective": {"name": self.objective_name, "value": self.objective},
                 "feasible": self.feasible, "verified": v.to_dict(), "metrics": self.metrics,
-                "solver": self.solver, "history": self.history, "time_s": self.time_s}
+                "solver": self.solver, "history": self.history, "time_s": self.time_s,
+                **({"cycle": self.cycle.to_dict()} if self.cycle is not None else {})}

@@ -143,4 +143,5 @@ def optimise(task: Task, method: str = "ipopt", starts: int = 4, seed: int = 0,
                         feasible=bool(ev.feasible[best]),
                         verification=ev.coverage[best], solver=solver, history=[r.history for r in runs],
                         time_s=time.perf_counter() - t0, length_unit=task.length_unit,
-                        architecture="".join("R" if j.is_revolute else "P" for j in robot.chain.joints))
+                        architecture="".join("R" if j.is_revolute else "P" for j in robot.chain.joints),
+                        cycle=None if ev.cycles is None else ev.cycles[best])

@@ -107,6 +107,10 @@ def evaluate_design(job: SweepJob, robot: kin.Robot, design: Design) -> dict:
     simple = {"coverage": cov.fraction, "reach": cov.reach_fraction, "flips": cov.flips, "gci": cov.gci,
               "structural_length": length}
     out.update({m: simple[m] for m in job.metrics if m in simple})
+    if ev.cycles is not None and any(m in job.metrics for m in ("cycle_time", "peak_torque", "torque_ratio")):
+        cyc = ev.cycles[0].metrics()          # cycle_time s, peak_torque N·m, torque_ratio, peak_torque_JOINT
+        out.update({k: v for k, v in cyc.items() if k in job.metrics or
+                    (k.startswith("peak_torque_") and "peak_torque" in job.metrics)})
     if "volume" in job.metrics or "length_index" in job.metrics:
         cv = converged_volume(robot, p, start=job.samples, seed=job.seed)
         out["volume"] = cv.volume
@@ -152,6 +156,15 @@ def _cell_fingerprint(cell) -> str:
     return "|".join(parts)
 
 
+def _cycle_fingerprint(cycle) -> str:
+    """The motion cycle's every value (numpy arrays in full), or "-" without one."""
+    if cycle is None:
+        return "-"
+    from dataclasses import fields
+    return repr([(f.name, np.asarray(v).tolist() if isinstance(v := getattr(cycle, f.name), np.ndarray) else v)
+                 for f in fields(cycle)])
+
+
 def job_fingerprint(job: SweepJob) -> str:
     """SHA-256 of everything that decides a design's metrics: the chain, the targets, the dexterity,
     objective and constraints, the IK budget and the metrics (a store refuses another job's rows)."""
@@ -162,7 +175,8 @@ def job_fingerprint(job: SweepJob) -> str:
                  repr(t.dexterity), t.objective, repr(t.min_coverage), repr(t.total_length),
                  repr((job.seeds, job.samples, job.seed, tuple(job.metrics))),
                  getattr(job.evaluate, "__qualname__", "default"),
-                 _cell_fingerprint(t.cell), repr(t.clearance), repr(getattr(t, "region", None))):
+                 _cell_fingerprint(t.cell), repr(t.clearance), repr(getattr(t, "region", None)),
+                 _cycle_fingerprint(getattr(t, "cycle", None))):
         h.update(part.encode())
         h.update(b"\0")
     for arr in (t.targets.positions, t.targets.axes, t.targets.rotations):

@@ -4,7 +4,9 @@ is installed or a numpy record array otherwise, and written as CSV or (with pyar
 Columns: ``id``, ``key``, ``architecture``, ``origin``, ``status``, ``attempts``, one column per
 design parameter named ``NAME_UNIT`` in the robot file's units (``A1_mm``), ``objective``,
 ``score``, ``feasible`` and the sweep's metrics (SI: ``structural_length`` in m, coverage and
-reach as fractions), ``error``, ``time_s``, ``seed``, ``worker``.  Metrics of rows not done are NaN.
+reach as fractions, ``cycle_time`` in s, ``peak_torque`` in N·m — followed by one
+``peak_torque_JOINT`` column per joint, N·m or N), ``error``, ``time_s``, ``seed``, ``worker``.
+Metrics of rows not done are NaN.
 """
 from __future__ import annotations
 
@@ -70,6 +72,10 @@ def _columns(meta: dict, rows: list[dict]) -> dict[str, list]:
     metric_names = ["objective", "score", "feasible"] + [m for m in meta["metrics"]]
     if "length_index" in metric_names and "volume" not in metric_names:
         metric_names.append("volume")
+    if "peak_torque" in metric_names:            # then the per-joint peaks, in the order the rows hold them
+        per = dict.fromkeys(k for r in rows for k in (r["metrics"] or {}) if k.startswith("peak_torque_"))
+        at = metric_names.index("peak_torque") + 1
+        metric_names[at:at] = list(per)
     cols: dict[str, list] = {k: [] for k in ("id", "key", "architecture", "origin", "status", "attempts")}
     pcols = {n: f"{n}_{units[n]}" for n in names}
     for c in pcols.values():

@@ -21,7 +21,10 @@ __all__ = ["SweepError", "Sweep", "ParameterSpace", "load_sweep", "loads_sweep",
 #: sampling of the continuous parameters: full grid, Latin hypercube, scrambled Sobol (scipy.stats.qmc)
 SAMPLINGS = ("grid", "lhs", "sobol")
 #: metrics a sweep may store per design (objective, score and feasible are always stored)
-METRICS = ("coverage", "reach", "flips", "gci", "structural_length", "length_index", "volume")
+METRICS = ("coverage", "reach", "flips", "gci", "structural_length", "length_index", "volume", "cycle_time",
+           "peak_torque", "torque_ratio")
+#: the metrics of the task's motion cycle (they need its [cycle] table, :mod:`design.cycle`)
+CYCLE_METRICS = ("cycle_time", "peak_torque", "torque_ratio")
 DEFAULT_METRICS = ("coverage", "reach", "flips", "gci", "structural_length")
 _TOP = ("name", "title", "task", "metrics", "architecture", "sampling", "evaluation", "parameters", "placement")
 #: at most this many designs from the sampling (a larger sweep is several files, or --resume extends)
@@ -139,6 +142,9 @@ def loads_sweep(text: str, path: str | None = None, base: Path | None = None, ta
         if not isinstance(m, list) or not m:
             raise r.fail("metrics", f"must be a non-empty list; allowed: {', '.join(METRICS)}")
         metrics = tuple(dict.fromkeys(r.string(x, f"metrics[{i}]", METRICS) for i, x in enumerate(m)))
+        for i, x in enumerate(m):
+            if x in CYCLE_METRICS and task.cycle is None:
+                raise r.fail(f"metrics[{i}]", f"{x!r} needs a motion cycle: the task has no [cycle] table")
     archs = _architectures(r, raw.get("architecture"), task)
     size = math.prod(len(ps.values) if ps.is_list else (ps.count if method == "grid" else 1) for ps in params)
     size *= (count or 1) * len(archs)

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 import kin
-from design.task.model import OBJECTIVES, Dexterity, Targets, Task, TaskError
+from design.task.model import CYCLE_OBJECTIVES, OBJECTIVES, Dexterity, Targets, Task, TaskError
 from design.task.targets import box_points, read_points_csv, ring_points, shell_points
 from kin import robotfile
 from kin.chain import ANGLE_UNITS, LENGTH_UNITS
@@ -23,7 +23,7 @@ __all__ = ["load_task", "loads_task", "placement_region", "SHAPES", "PLACEMENT_K
 SHAPES = ("points", "box", "ring", "sphere", "toolpath")
 _TOP = ("name", "title", "robot", "length_unit", "angle_unit", "seed", "objective", "target", "dexterity", "cell",
         "clearance",
-        "constraints", "architecture", "placement")
+        "constraints", "architecture", "placement", "cycle")
 _TARGET = {"points": ("file",), "box": ("min", "max", "count"),
            "ring": ("center", "r_inner", "r_outer", "count", "z", "theta"),
            "sphere": ("center", "r_inner", "r_outer", "count"), "toolpath": ("file",)}
@@ -124,9 +124,17 @@ def loads_task(text: str, path: str | None = None, base: Path | None = None, rob
     if "placement" in raw:
         z0 = float(np.asarray(cell.base)[2, 3]) if cell is not None else 0.0
         region = _placement(r, r.table(raw["placement"], "placement", PLACEMENT_KEYS), ls, as_, None, z0)
+    cycle = None
+    if "cycle" in raw:
+        from design.cycle.file import read_cycle
+        cycle = read_cycle(r, raw["cycle"], robot, targets, ls, as_)
+    if objective in CYCLE_OBJECTIVES and cycle is None:
+        raise r.fail("objective", f"{objective!r} needs a [cycle] table (the task's motion cycle)")
+    if objective == "torque_ratio" and np.isnan(cycle.tau_max).all():
+        raise r.fail("objective", "'torque_ratio' needs motor torque limits (cycle.tau_max)")
     return Task(name=name, robot=robot, targets=targets, dexterity=dex, objective=objective, min_coverage=min_cov,
                 total_length=total, architectures=arch, seed=seed, length_unit=lu, angle_unit=au,
-                source=path or "", cell=cell, clearance=clearance, region=region)
+                source=path or "", cell=cell, clearance=clearance, region=region, cycle=cycle)
 
 
 def placement_region(values: dict, length_unit: str = "m", angle_unit: str = "rad", base=None, z: float = 0.0,

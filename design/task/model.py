@@ -15,8 +15,11 @@ ORIENTATIONS = ("free", "pose", "axis", "cone")
 #: characteristic length, or the manipulability of the robot's task rows
 DEXTERITY_KINDS = ("none", "sigma_min", "sigma_min_full", "manipulability")
 #: objectives: structural length Σ(|a|+|d|), structural length index Q_L = Σ(|a|+|d|)/∛V, coverage,
-#: global conditioning index (mean 1/κ over the covered targets)
-OBJECTIVES = ("length", "length_index", "coverage", "gci")
+#: global conditioning index (mean 1/κ over the covered targets), the cycle time of the task's motion
+#: cycle (s) and its largest peak motor torque over the motor's limit (needs the task's ``cycle``)
+OBJECTIVES = ("length", "length_index", "coverage", "gci", "cycle_time", "torque_ratio")
+#: the objectives that need the task's motion cycle (:mod:`design.cycle`)
+CYCLE_OBJECTIVES = ("cycle_time", "torque_ratio")
 
 
 class TaskError(RmtError, ValueError):
@@ -110,6 +113,9 @@ class Task:
     :class:`planning.cell.Cell`) whose collisions rule solutions out, with ``clearance`` (m) required.
     ``region``: where the robot's base may stand when its placement is searched (a
     :class:`design.place.PlacementRegion`, SI; None: the placement search's default, around the targets).
+    ``cycle``: the task's motion cycle (a :class:`design.cycle.CycleSpec`) whose cycle time and peak
+    motor torques are metrics — and, for the cycle objectives, the objective, its torque limits a
+    constraint; None: none.
     """
 
     name: str
@@ -127,10 +133,17 @@ class Task:
     cell: object | None = None
     clearance: float = 0.0
     region: object | None = None
+    cycle: object | None = None
 
     def __post_init__(self):
         if self.objective not in OBJECTIVES:
             raise TaskError(f"objective {self.objective!r} unknown; allowed: {', '.join(OBJECTIVES)}")
+        if self.objective in CYCLE_OBJECTIVES and self.cycle is None:
+            raise TaskError(f"objective {self.objective!r} needs the task's motion cycle (a [cycle] table)")
+        if self.objective == "torque_ratio" and np.isnan(self.cycle.tau_max).all():
+            raise TaskError("objective 'torque_ratio' needs motor torque limits (cycle tau_max)")
+        if self.cycle is not None:
+            self.cycle.check_targets(len(self.targets))
         if not (0.0 <= self.min_coverage <= 1.0):
             raise TaskError(f"min_coverage {self.min_coverage} must be in [0, 1]")
         if self.total_length is not None and not (np.isfinite(self.total_length) and self.total_length > 0):

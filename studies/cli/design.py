@@ -97,6 +97,12 @@ def cmd_coverage(args, load_robot) -> int:
     out = cov.to_dict()
     out["positions"] = targets.positions / c.length_scale
     out["units"] = {"length": c.length_unit, "positions": c.length_unit}
+    cyc = None
+    if task is not None and task.cycle is not None:        # the task's motion cycle (design.cycle)
+        from design.cycle import evaluate_cycle
+        cyc = evaluate_cycle(robot, task.cycle, targets, _params(robot, args.param), args.seed)
+        out["cycle"] = cyc.to_dict()
+        out["units"]["cycle"] = {"time": "s", "torque": "N·m (revolute), N (prismatic)"}
     if args.json:
         print(dump(out))
     else:
@@ -106,7 +112,14 @@ def cmd_coverage(args, load_robot) -> int:
         if cov.blocked is not None:
             print(f"  in the cell: {int(cov.blocked.sum())} target(s) reached only through a collision "
                   f"(not counted)")
-    return EXIT_OK if cov.covered.all() else EXIT_FAIL
+        if cyc is not None and not cyc.ok:
+            print(f"  cycle: target(s) {', '.join(map(str, cyc.unreached))} not reached")
+        elif cyc is not None:
+            peaks = ", ".join(f"{nm} {t:.4g}" + ("" if m != m else f"/{m:g}")
+                              for nm, t, m in zip(cyc.joint_names, cyc.peak_torque, cyc.tau_max))
+            print(f"  cycle {cyc.cycle_time:.4g} s; peak torque (N·m, N; /limit) {peaks}: "
+                  f"{'within' if cyc.within_torque else 'OVER'} the motor limits")
+    return EXIT_OK if cov.covered.all() and (cyc is None or cyc.within_torque) else EXIT_FAIL
 
 
 def add_commands(add) -> None:

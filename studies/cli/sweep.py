@@ -128,12 +128,14 @@ def cmd_sweep_export(args, load_robot) -> int:
 
 def cmd_sweep_plot(args, load_robot) -> int:
     from design.sweep import read_sweep
-    from studies.plots.sweep import plot_heatmap, plot_pareto
+    from studies.plots.sweep import plot_cycle_pareto, plot_heatmap, plot_pareto
     meta, rows = read_sweep(args.db)
     out = Path(args.out) if args.out else Path(args.db).parent
     written = [plot_pareto(meta, rows, out / "pareto.png")]
     if len(meta["swept"]) == 2:
         written.append(plot_heatmap(meta, rows, out / "heatmap.png"))
+    if {"cycle_time", "torque_ratio"} <= set(meta["metrics"]):
+        written.append(plot_cycle_pareto(meta, rows, out / "cycle_pareto.png"))
     if args.json:
         print(dump({"written": [str(p) for p in written]}))
     else:

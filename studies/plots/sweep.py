@@ -1,5 +1,6 @@
-"""Sweep figures: coverage against structural length with the Pareto front marked, and the
-objective over the parameter plane of a 2-parameter sweep."""
+"""Sweep figures: coverage against structural length with the Pareto front marked, the objective over
+the parameter plane of a 2-parameter sweep, and (a sweep storing the cycle metrics) the cycle time
+against the peak torque ratio with their Pareto front."""
 from __future__ import annotations
 
 import numpy as np
@@ -8,7 +9,7 @@ from matplotlib.figure import Figure
 from design.sweep.export import pareto_front, pareto_rows
 from studies.plots.figure import save_figure
 
-__all__ = ["plot_pareto", "plot_heatmap"]
+__all__ = ["plot_pareto", "plot_heatmap", "plot_cycle_pareto"]
 
 
 def _done(rows: list[dict]) -> list[dict]:
@@ -84,4 +85,33 @@ def plot_heatmap(meta: dict, rows: list[dict], path):
     ax.set_ylabel(f"{q} ({meta['units'][q]})")
     ax.ticklabel_format(useOffset=False)
     ax.set_title(f"{meta['name']}: {meta['objective']} over {p}, {q}")
+    return save_figure(fig, path)
+
+
+def plot_cycle_pareto(meta: dict, rows: list[dict], path, marks=()):
+    """Cycle time (s) against the largest peak torque over its limit of every done design that
+    reaches its cycle; the Pareto front (faster and less torque) joined by a line, the torque limit
+    (ratio 1) dashed, infeasible designs (coverage or torque) as crosses.  ``marks``: (label, torque
+    ratio, cycle time s) each."""
+    done = [r for r in rows if r["status"] == "done" and r["metrics"]
+            and all(isinstance(r["metrics"].get(k), (int, float)) and np.isfinite(r["metrics"][k])
+                    for k in ("cycle_time", "torque_ratio"))]
+    fig = Figure(figsize=(6.4, 4.6))
+    ax = fig.add_subplot(111)
+    if done:
+        R = np.array([r["metrics"]["torque_ratio"] for r in done])
+        T = np.array([r["metrics"]["cycle_time"] for r in done])
+        F = np.array([bool(r["metrics"]["feasible"]) for r in done])
+        ax.scatter(R[F], T[F], s=16, c="tab:blue", label="feasible design")
+        ax.scatter(R[~F], T[~F], s=16, c="0.6", marker="x", label="infeasible (torque or coverage)")
+        front = pareto_rows([r["metrics"] for r in done], maximise=(), minimise=("torque_ratio", "cycle_time"))
+        o = sorted(front, key=lambda i: R[i])
+        ax.step(R[o], T[o], where="post", c="tab:red", lw=1.5, label="Pareto front")
+        ax.axvline(1.0, ls="--", c="k", lw=1.0, label="torque limit")
+    for (label, ratio, t), marker, colour in zip(marks, "*^sP", ("gold", "tab:green", "tab:purple", "tab:brown")):
+        ax.scatter([ratio], [t], marker=marker, s=140, c=colour, edgecolors="k", zorder=5, label=label)
+    ax.set_xlabel("largest peak |τ| / τ_max over the joints")
+    ax.set_ylabel("cycle time (s)")
+    ax.set_title(f"{meta['name']}: cycle time against motor torque, {len(done)} designs")
+    ax.legend(loc="upper right", fontsize=8)
     return save_figure(fig, path)
