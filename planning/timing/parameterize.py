@@ -135,8 +135,8 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
     b = b * c
     jr = None
     if jmax is not None:
-        b, jr = jerk_limit(st, b, bp, jmax)
-        status += ", jerk-limited"
+        b, jr, jused = jerk_limit(st, b, bp, jmax, backend)
+        status += f", jerk-limited ({jused})"
     t, q, qd, qdd, ks, sd, sdd = sample_profile(st, b, bp)
     vr = float(np.max(np.abs(qd) / vmax[None, :]))
     ar = float(np.max(np.abs(qdd) / amax[None, :]))

@@ -19,8 +19,15 @@ including blending and its own dense re-check; TOPP-RA's constraints, instance a
 ``compute_trajectory``), duration, their ratios, and the largest limit overshoot between
 grid points for both — |q̇_j|/v_j and |q̈_j|/A_j on :data:`DENSE` uniform times per grid interval of
 each trajectory, over 1 (0: none).  Targets (issue 9): duration within 0.5 % of TOPP-RA's and compute
-time no more than TOPP-RA's (≤ 20 ms at 1001 points).  The report states the machine's load: figures taken
-while other processes run are not reliable.
+time no more than TOPP-RA's (≤ 20 ms at 1001 points).
+
+Jerk (issue 22): the same call with ``j_max`` = :data:`J_MAX` (an assumption: full acceleration in
+0.2 s) on each grid — compute time (target ≤ :data:`JERK_TARGET_MS` ms at 301 points) and duration; and
+:data:`PTP_MOVES` random rest-to-rest 6-joint moves inside the joint limits (fixed seed), rmtkit's
+``ptp_move`` (time synchronisation) against Ruckig (``Ruckig(dof)``, an ``InputParameter``, one
+``calculate`` per move into a ``Trajectory``, as its documentation shows; single thread): the ratio of
+the durations (max and median of rmtkit/Ruckig) and the compute time per move.  The report states the
+machine's load: figures taken while other processes run are not reliable.
 """
 from __future__ import annotations
 
@@ -34,7 +41,7 @@ import time
 import numpy as np
 
 import kin
-from planning.timing import BlendedPath, blend_path, time_parameterize
+from planning.timing import BlendedPath, blend_path, ptp_move, time_parameterize
 from studies.jsonio import dump
 
 WAYPOINTS = 100
@@ -47,6 +54,10 @@ DENSE = 20
 REPEATS = 15
 QUICK_REPEATS = 3
 DURATION_TOL = 0.005        # relative duration target against TOPP-RA
+J_MAX = 5.0 * A_MAX
+JERK_TARGET_MS = 20.0
+PTP_MOVES = 1000
+QUICK_PTP_MOVES = 100
 
 
 def fanuc_path(seed: int = SEED, m: int = WAYPOINTS, freq: tuple[float, float] = (0.3, 1.5)) -> np.ndarray:
@@ -152,13 +163,49 @@ def run(quick: bool = False) -> dict:
             rec["duration_ratio"] = tr.duration / float(jt.duration)
             rec["targets"] = {"duration_within_0.5%": abs(rec["duration_ratio"] - 1) <= DURATION_TOL,
                               "time_no_more_than_toppra": t_r <= t_t}
+        t_j, trj = _median_time(lambda: time_parameterize(W, V_MAX, A_MAX, ds=ds, blend=BLEND, j_max=J_MAX),
+                                repeats)
+        rec["jerk"] = {"time_ms": 1e3 * t_j, "duration_s": trj.duration, "max_jerk_ratio": trj.max_jerk_ratio,
+                       "solver": trj.qp_status, "target_ms": JERK_TARGET_MS if npts == GRIDS[0] else None,
+                       "pass": (1e3 * t_j <= JERK_TARGET_MS) if npts == GRIDS[0] else None}
         grids[str(npts)] = rec
     return {"benchmark": "timing", "robot": "fanuc_m16ib20", "waypoints": WAYPOINTS, "blend": BLEND,
-            "path_length": bp.length, "v_max": V_MAX.tolist(), "a_max": A_MAX.tolist(), "quick": quick,
-            "grids": grids,
+            "path_length": bp.length, "v_max": V_MAX.tolist(), "a_max": A_MAX.tolist(), "j_max": J_MAX.tolist(),
+            "quick": quick, "grids": grids, "ptp": ptp_compare(QUICK_PTP_MOVES if quick else PTP_MOVES),
             "environment": {"python": platform.python_version(), "numpy": np.__version__,
                             "cpu_count": os.cpu_count(), "toppra": have_toppra,
                             "loadavg_1min_before": load0, "loadavg_1min_after": os.getloadavg()[0]}}
+
+
+def ptp_compare(moves: int, seed: int = SEED) -> dict:
+    """rmtkit's ``ptp_move`` against Ruckig on ``moves`` random rest-to-rest moves (module docstring)."""
+    lim = kin.load_robot("fanuc_m16ib20").chain.limits
+    rng = np.random.default_rng(seed)
+    Q0 = rng.uniform(lim[:, 0], lim[:, 1], (moves, 6))
+    Q1 = rng.uniform(lim[:, 0], lim[:, 1], (moves, 6))
+    ptp_move(Q0[0], Q1[0], V_MAX, A_MAX, J_MAX)            # warm-up
+    t0 = time.perf_counter()
+    ours = np.array([ptp_move(a, b, V_MAX, A_MAX, J_MAX).duration for a, b in zip(Q0, Q1)])
+    rec = {"moves": moves, "rmtkit_us_per_move": 1e6 * (time.perf_counter() - t0) / moves}
+    try:
+        import ruckig
+    except ImportError:
+        return rec
+    otg, inp, traj = ruckig.Ruckig(6), ruckig.InputParameter(6), ruckig.Trajectory(6)
+    inp.max_velocity, inp.max_acceleration, inp.max_jerk = V_MAX.tolist(), A_MAX.tolist(), J_MAX.tolist()
+    theirs = np.empty(moves)
+    t0 = time.perf_counter()
+    for k in range(moves):
+        inp.current_position, inp.target_position = Q0[k].tolist(), Q1[k].tolist()
+        if otg.calculate(inp, traj) != ruckig.Result.Working:
+            raise RuntimeError(f"Ruckig failed on move {k}")
+        theirs[k] = traj.duration
+    rec["ruckig_us_per_move"] = 1e6 * (time.perf_counter() - t0) / moves
+    ratio = ours / theirs
+    rec["duration_ratio_max"] = float(np.max(ratio))
+    rec["duration_ratio_median"] = float(np.median(ratio))
+    rec["duration_ratio_min"] = float(np.min(ratio))
+    return rec
 
 
 def format_report(R: dict) -> str:
@@ -188,6 +235,19 @@ def format_report(R: dict) -> str:
             L.append(f"   ratios rmtkit/TOPP-RA: time {rec['time_ratio']:.3f} "
                      f"[{'PASS' if ok['time_no_more_than_toppra'] else 'MISS'}], duration {rec['duration_ratio']:.5f} "
                      f"[{'PASS' if ok['duration_within_0.5%'] else 'MISS'} ±0.5 %]")
+        j = rec["jerk"]
+        tgt = "" if j["target_ms"] is None else f" [{'PASS' if j['pass'] else 'MISS'} ≤ {j['target_ms']:.0f} ms]"
+        L.append(f"   rmtkit j_max = 5·a_max {j['time_ms']:8.2f} ms{tgt}  duration {j['duration_s']:.5f} s  "
+                 f"jerk ratio {j['max_jerk_ratio']:.9f}  ({j['solver']})")
+    p = R["ptp"]
+    line = f"point-to-point, {p['moves']} random 6-joint moves: rmtkit ptp_move {p['rmtkit_us_per_move']:.1f} µs/move"
+    if "ruckig_us_per_move" in p:
+        line += (f", Ruckig {p['ruckig_us_per_move']:.1f} µs/move; duration rmtkit/Ruckig max "
+                 f"{p['duration_ratio_max']:.12f}, median {p['duration_ratio_median']:.12f}, "
+                 f"min {p['duration_ratio_min']:.12f}")
+    else:
+        line += " (ruckig not installed: pip install -e '.[bench]')"
+    L.append(line)
     return "\n".join(L)
 
 
