@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import planning.timing.native as native
-from kin.compiled.evaluator import find_compiler
+from kin.native import find_compiler
 from planning.timing import time_parameterize
 
 
