@@ -127,7 +127,7 @@ def jerk_limit(st: Stages, b0: np.ndarray, bp: BlendedPath, jmax: np.ndarray) ->
                 break
             raise TimingError(f"the jerk-limit LP failed: {res.message} ({st.K} grid intervals)")
         b = np.clip(res.x, 0.0, hi)
-        # exact feasibility despite HiGHS's tolerance: every row is homogeneous in b
+        # exact feasibility despite HiGHS's tolerance: b = 0 meets every row and the jerk rows are homogeneous
         b = b * min(st.residual_scale(b), 1.0 / max(float(np.max(np.abs(D @ b) / lim)), 1.0))
         dt = interval_times(st, b)
         if not np.all(np.isfinite(dt)):

@@ -2,7 +2,9 @@
 (``method="reach"`` of :func:`planning.timing.time_parameterize`, the default).
 
 Every row involves one interval, so stage i is a convex polygon P_i of pairs (x, y) = (b_i, b_{i+1})
-(half-planes A·x + C·y ≤ R), and (0, 0) lies in every P_i (the rows are homogeneous).  The set of
+(half-planes A·x + C·y ≤ R), and (0, 0) lies in every P_i (R ≥ 0: the speed and acceleration rows
+are homogeneous, the torque rows of :mod:`planning.timing.torque` have 0 in their range when the
+robot can hold the path at rest, which is checked before).  The set of
 b_i from which the end can be reached at rest (the controllable set) is then an interval [0, hi_i]:
 hi_K = 0 and hi_i = max{x : (x, y) ∈ P_i, 0 ≤ y ≤ hi_{i+1}, x ≤ ub_i} — one two-variable LP per
 stage, solved exactly (backward pass).  The forward pass starts at rest and takes the largest
