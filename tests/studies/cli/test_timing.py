@@ -75,7 +75,7 @@ def test_bad_files_and_robots_are_one_line(tmp_path, capsys):
     bad.write_text("1,2,3\n")
     cases = [["time", "franka_panda", str(tmp_path / "missing.csv"), "--a-max", "1"],
              ["time", "franka_panda", str(bad), "--a-max", "1"],
-             ["time", "fanuc_m16ib20", str(_path_file(tmp_path, np.zeros((2, 6)) + [[0] * 6, [10] * 6])),
+             ["time", "fanuc_m16ib20", str(_path_file(tmp_path, np.zeros((2, 6)) + [[0] * 6, [10] * 6], "fanuc.csv")),
               "--a-max", "100", "--v-max", "100", "--tau-max", "100"],
              ["time", "franka_panda", str(_path_file(tmp_path)), "--a-max", "1", "--csv", str(tmp_path)]]
     for argv, what in zip(cases, ["no such joint-path file", "3 values", "no body has inertial data", "bad"]):
