@@ -38,6 +38,7 @@ bench: $(STAMP)
 	$(BIN)/python -m studies.benchmarks.bench_cell_plan
 	$(BIN)/python -m studies.benchmarks.bench_startup
 	$(BIN)/python -m studies.benchmarks.bench_timing
+	$(BIN)/python -m studies.benchmarks.bench_torque
 	$(BIN)/python -m studies.benchmarks.bench_design
 	$(BIN)/python -m studies.benchmarks.bench_sweep
 	$(BIN)/python -m studies.benchmarks.bench_reach
