@@ -177,3 +177,16 @@ def test_against_toppra_joint_torque_constraint():
     assert jt is not None
     # rmtkit imposes the limits at both ends of every segment and re-checks densely: never much faster
     assert 0.995 * jt.duration <= tr.duration <= 1.02 * jt.duration
+
+
+def test_numpy_backend_and_jerk_limits_with_torque():
+    robot = kin.load_robot("franka_panda")
+    W = panda_path()
+    tmax = 0.6 * PANDA_TAU
+    a = time_parameterize(W, PANDA_V, PANDA_A, robot=robot, tau_max=tmax)
+    b = time_parameterize(W, PANDA_V, PANDA_A, robot=robot, tau_max=tmax, backend="numpy")
+    assert b.duration == pytest.approx(a.duration, rel=1e-9)
+    c = time_parameterize(W, PANDA_V, PANDA_A, robot=robot, tau_max=tmax, j_max=200.0)
+    assert c.duration >= a.duration * (1 - 1e-9)
+    assert c.max_torque_ratio <= 1 + 1e-6 and c.max_jerk_ratio <= 1 + 1e-9
+    assert np.allclose(c.tau, robot.inverse_dynamics(c.q, c.qd, c.qdd), rtol=1e-9, atol=1e-9)
