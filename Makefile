@@ -39,6 +39,7 @@ bench: $(STAMP)
 	$(BIN)/python -m studies.benchmarks.bench_startup
 	$(BIN)/python -m studies.benchmarks.bench_timing
 	$(BIN)/python -m studies.benchmarks.bench_waypoints
+	$(BIN)/python -m studies.benchmarks.bench_torque
 	$(BIN)/python -m studies.benchmarks.bench_design
 	$(BIN)/python -m studies.benchmarks.bench_sweep
 	$(BIN)/python -m studies.benchmarks.bench_reach

@@ -17,8 +17,12 @@ points) and the rows are built by :mod:`planning.timing.stages`.  Two solvers gi
 * ``method="qp"``: the whole problem as one sparse OSQP QP (:mod:`planning.timing.qp`) — slower, kept
   for comparison.
 
-After the solve, b is scaled by one factor c ≤ 1 (every row is homogeneous in b) so that every
-constraint holds exactly despite rounding or the solver's tolerance.  The result is re-checked
+With ``robot`` and torque limits, torque rows join them (:mod:`planning.timing.torque`: exact at the
+constraint points, viscous friction by a conservative tangent, then a dense re-check with the
+actual inverse dynamics and re-solves with locally tightened limits).
+
+After the solve, b is scaled by one factor c ≤ 1 (b = 0 meets every row and the feasible set is
+convex) so that every constraint holds exactly despite rounding or the solver's tolerance.  The result is re-checked
 densely between its samples (``overshoot`` of :class:`TimedTrajectory`, see
 :func:`planning.timing.limits.dense_ratios`).  With ``j_max`` the profile is then tightened for jerk
 (:mod:`planning.timing.jerk`).
@@ -26,12 +30,13 @@ densely between its samples (``overshoot`` of :class:`TimedTrajectory`, see
 Corners.  The path is made C¹ by blending its corners with quadratic Bézier pieces, or stops at
 every corner with ``blend=0``; a dense path is first thinned.  See :mod:`planning.timing.shaping`.
 
-SI units throughout: rad and rad/s, rad/s², rad/s³ for revolute joints, m, m/s, m/s², m/s³ for
-prismatic ones.
+SI units throughout: rad and rad/s, rad/s², rad/s³, N·m for revolute joints, m, m/s, m/s², m/s³, N
+for prismatic ones.
 """
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 
@@ -42,6 +47,7 @@ from planning.timing.reachability import BACKENDS, reach
 from planning.timing.shaping import blend_path
 from planning.timing.spline import spline_path
 from planning.timing.stages import build_stages, sample_profile
+from planning.timing.torque import BUDGET, ROUNDS, TOL, dense_torque, path_model, tighten, torque_limits, torque_rows
 from planning.timing.trajectory import TimedTrajectory, TimingError
 
 __all__ = ["time_parameterize", "DEFAULT_INTERVALS", "MAX_INTERVALS", "QP_MAX_INTERVALS", "METHODS", "SHAPES",
@@ -67,7 +73,7 @@ DENSE_SAMPLES = 8000
 
 def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float = 0.05,
                       simplify: float = 1e-4, method: str = "reach", j_max=None,
-                      backend: str = "auto", shape: str = "blend") -> TimedTrajectory:
+                      backend: str = "auto", shape: str = "blend", robot=None, tau_max=None) -> TimedTrajectory:
     """Minimum-time (on the grid), rest-to-rest trajectory along a joint path under per-joint limits.
 
     Parameters
@@ -88,6 +94,11 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
     backend : for ``method="reach"``: ``"auto"`` (C when a compiler is available), ``"c"`` or ``"numpy"``.
     shape : ``"blend"`` (default: straight segments, corners cut within ``blend``) or ``"spline"``
         (through every waypoint exactly; faster through many closely spaced waypoints).
+    robot : a :class:`kin.Robot` with inertial data (SI): the result then carries the joint torques
+        ``tau`` at its samples, and torque limits apply (``tau_max``, or the joints' ``max_torque``).
+    tau_max : per-joint torque limits (scalar or (n,), > 0; N·m or N), needs ``robot``; None: the
+        joints' ``max_torque`` where known (none known: no torque limit).  See
+        :mod:`planning.timing.torque` for what is guaranteed between constraint points.
 
     Returns a :class:`TimedTrajectory` sampled at the grid points and piece boundaries (see the module
     docstring).  Raises :class:`TimingError` for bad input or when the solver fails.
@@ -106,11 +117,18 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
     vmax = _limits(v_max, n, "v_max")
     amax = _limits(a_max, n, "a_max")
     jmax = None if j_max is None else _limits(j_max, n, "j_max")
+    if robot is None and tau_max is not None:
+        raise TimingError("tau_max needs robot= (a kin.Robot with inertial data)")
+    tmax = None if robot is None else torque_limits(robot, tau_max, n)
     if bp.length == 0.0:
         z = np.zeros((1, n))
-        return TimedTrajectory(np.zeros(1), bp.waypoints[:1].copy(), z, z.copy(), np.zeros(1), np.zeros(1),
-                               np.zeros(1), 0.0, 0.0, 0.0, bp, vmax, amax, "trivial (zero-length path)",
-                               method=method)
+        tr = TimedTrajectory(np.zeros(1), bp.waypoints[:1].copy(), z, z.copy(), np.zeros(1), np.zeros(1),
+                             np.zeros(1), 0.0, 0.0, 0.0, bp, vmax, amax, "trivial (zero-length path)", method=method)
+        if robot is not None:
+            tr.tau = np.atleast_2d(robot.inverse_dynamics(tr.q, z, z))
+            if tmax is not None:
+                tr.tau_max, tr.max_torque_ratio = tmax, float(np.max(np.abs(tr.tau) / tmax[None, :]))
+        return tr
     if ds is None:
         K = DEFAULT_INTERVALS if shape == "blend" else max(DEFAULT_INTERVALS, SPLINE_INTERVALS_PER_SPAN
                                                                * (len(bp.waypoints) - 1))
@@ -125,18 +143,58 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
             raise TimingError(f"ds = {ds:g} gives {K} grid intervals; at most {most} with method={method!r}"
                               f"{' and j_max' if jmax is not None else ''} (choose a larger ds)")
     st = build_stages(bp, K, vmax, amax, full_mvc=(method == "qp"))
+    if robot is None:
+        return _finish(_solve(st, method, backend, jmax, bp), st, bp, vmax, amax, jmax, method)
+    tm = None if tmax is None else path_model(robot, st, bp, tmax)
+    if tm is None:
+        tr = _finish(_solve(st, method, backend, jmax, bp), st, bp, vmax, amax, jmax, method)
+        _, _, tr.tau = dense_torque(robot, tr, st.samples(bp.length)[2])
+        return tr
+    ki = st.samples(bp.length)[2]
+    w = np.ones((st.K, n))
+    b_ref = None
+    if tm.viscous:              # a first estimate of ṡ for the viscous tangent (not conservative itself)
+        b_ref = _solve(torque_rows(st, tm, w, None), method, backend, None, bp)[0]
+    deadline = time.monotonic() + BUDGET
+    rounds = 0
+    while True:
+        sol = _solve(torque_rows(st, tm, w, b_ref), method, backend, jmax, bp)
+        tr = _finish(sol, st, bp, vmax, amax, jmax, method)
+        tau_d, where, tr.tau = dense_torque(robot, tr, ki)
+        ratio = float(np.max(np.abs(tau_d) / tmax[None, :]))
+        if ratio <= 1.0 + TOL or rounds >= ROUNDS or time.monotonic() > deadline:
+            break
+        if not tighten(w, tau_d, where, tm, st):
+            break
+        rounds += 1
+        b_ref = sol[0] if tm.viscous else None
+    tr.tau_max, tr.max_torque_ratio, tr.torque_rounds = tmax, ratio, rounds
+    tr.qp_status += f", torque-limited ({rounds} tightening round{'' if rounds == 1 else 's'})"
+    return tr
+
+
+def _solve(st, method: str, backend: str, jmax, bp):
+    """b (K+1,) of the rows of ``st`` (scaled to meet them exactly), the scale, the solver's status and
+    the jerk ratio (None without ``jmax``)."""
     if method == "qp":
         b, status = solve_qp(st)
     else:
         _, b, used = reach(st, backend)
         status = f"reachability ({used})"
-    # one common scale c ≤ 1 makes every row hold exactly (all rows are homogeneous in b)
+    # one common scale c ≤ 1 makes every row hold exactly (b = 0 meets every row; the set is convex)
     c = st.residual_scale(b)
     b = b * c
     jr = None
     if jmax is not None:
         b, jr, jused = jerk_limit(st, b, bp, jmax, backend)
         status += f", jerk-limited ({jused})"
+    return b, c, status, jr
+
+
+def _finish(sol, st, bp, vmax, amax, jmax, method: str) -> TimedTrajectory:
+    """The :class:`TimedTrajectory` of a solution of :func:`_solve`, with its dense speed and
+    acceleration re-check."""
+    b, c, status, jr = sol
     t, q, qd, qdd, ks, sd, sdd = sample_profile(st, b, bp)
     vr = float(np.max(np.abs(qd) / vmax[None, :]))
     ar = float(np.max(np.abs(qdd) / amax[None, :]))

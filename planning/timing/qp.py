@@ -12,6 +12,8 @@ unique minimiser of both.  Dividing by β_i (rather than one common scale) cut O
 fourfold on a dense, curved test path.  OSQP is a first-order method: a long grid with many active
 constraints takes tens of thousands of iterations — seconds, not milliseconds; the reachability
 passes (:mod:`planning.timing.reachability`) solve the same problem exactly in milliseconds.
+Torque rows (:mod:`planning.timing.torque`) enter as they are: they are linear in b with bounds
+lo ≤ 0 ≤ up, so the feasible set stays a convex polytope containing b = 0.
 """
 from __future__ import annotations
 

@@ -10,8 +10,8 @@
 #include <math.h>
 
 /* max x subject to a[k] x + c[k] y <= r[k], k < m (the first four: the box) -- Seidel's incremental
-   2-D LP in the fixed order given (m is tiny: O(m^2) at worst).  The problem is feasible ((0, 0) is)
-   and bounded (the box). */
+   2-D LP in the fixed order given (m is tiny: O(m^2) at worst).  The problem is feasible ((0, 0) is:
+   every row has R >= 0, torque rows included -- see reachability.py) and bounded (the box). */
 static double lp_max_x(int m, const double *a, const double *c, const double *r)
 {
     double vx = r[0], vy = 0.0;                               /* optimum of the box: x = xcap, y = 0 */

@@ -2,7 +2,9 @@
 (``method="reach"`` of :func:`planning.timing.time_parameterize`, the default).
 
 Every row involves one interval, so stage i is a convex polygon P_i of pairs (x, y) = (b_i, b_{i+1})
-(half-planes A·x + C·y ≤ R), and (0, 0) lies in every P_i (the rows are homogeneous).  The set of
+(half-planes A·x + C·y ≤ R), and (0, 0) lies in every P_i (R ≥ 0: the speed and acceleration rows
+are homogeneous, the torque rows of :mod:`planning.timing.torque` have 0 in their range when the
+robot can hold the path at rest, which is checked before).  The set of
 b_i from which the end can be reached at rest (the controllable set) is then an interval [0, hi_i]:
 hi_K = 0 and hi_i = max{x : (x, y) ∈ P_i, 0 ≤ y ≤ hi_{i+1}, x ≤ ub_i} — one two-variable LP per
 stage, solved exactly (backward pass).  The forward pass starts at rest and takes the largest
@@ -15,6 +17,9 @@ with thousands of first-order iterations.  On a grid coarser than the blends the
 greatest element and the greedy profile is slightly slower than the profile of largest Σ b (on a
 6-joint test path with blends 0.1 rad long: 0.17 % slower at a grid step of 0.068 rad, 0.008 % at
 0.0084 rad); it converges to the optimum as the grid is refined (TOPP-RA's asymptotic optimality).
+Torque rows make this more visible: their ṡ² term B·b(s) couples b_i and b_{i+1} with the sign that
+lowers the reachable b_{i+1} as b_i grows when h is large (on a 7-joint Panda test path, 300
+intervals: 2.4 % slower than the QP's profile; 1000 intervals: 0.0001 %).
 
 Both passes run in C (:mod:`planning.timing.native`) when a compiler is available, else in numpy
 (:func:`reach_numpy`: a Python loop over stages, each LP by enumerating the polygon's vertices — the

@@ -11,9 +11,11 @@ q′_j(s)²·b(s) is a product of two non-negative functions that peak at an end
 κ = max over joints and both ends of q′_j²/v_j² bounds it on the whole segment too.  With the exact
 s(t) of a piecewise-constant s̈ the continuous trajectory therefore meets both limits everywhere.
 
-Every row involves one interval only: ``ci·b_i + cj·b_{i+1} ∈ [lo, up]`` (``iv`` = i), homogeneous in
-b (the bounds are 0, ±A_j or 1), so the stage problem of TOPP-RA is a two-variable LP and scaling a
-feasible b by c ≤ 1 keeps it feasible.
+Every row involves one interval only: ``ci·b_i + cj·b_{i+1} ∈ [lo, up]`` (``iv`` = i), so the stage
+problem of TOPP-RA is a two-variable LP.  The speed and acceleration rows are homogeneous in b (the
+bounds are 0, ±A_j or 1); the torque rows of :mod:`planning.timing.torque` are not (gravity), but
+every row has lo ≤ 0 ≤ up — b = 0 is feasible — so by convexity scaling a feasible b by c ∈ [0, 1]
+keeps it feasible.
 
 SI units throughout: rad, rad/s, rad/s² for revolute joints, m, m/s, m/s² for prismatic ones.
 """
@@ -72,11 +74,12 @@ class Stages:
         return ks, kp, ki
 
     def residual_scale(self, b: np.ndarray) -> float:
-        """The largest c ≤ 1 such that c·b meets every row (rows are homogeneous in b)."""
+        """The largest c ≤ 1 such that c·b meets every row (rows with lo ≤ 0 ≤ up: a row value v
+        outside [lo, up] comes back in at c = up/v or lo/v, and stays in for smaller c by convexity)."""
         v = self.ci * b[self.iv] + self.cj * b[self.iv + 1]
         with np.errstate(divide="ignore", invalid="ignore"):
-            r_up = np.where((v > 0) & np.isfinite(self.up), v / self.up, 0.0)
-            r_lo = np.where((v < 0) & np.isfinite(self.lo), v / self.lo, 0.0)
+            r_up = np.where((v > self.up) & (v > 0), v / np.maximum(self.up, 0.0), 0.0)
+            r_lo = np.where((v < self.lo) & (v < 0), v / np.minimum(self.lo, 0.0), 0.0)
         worst = max(float(np.max(r_up, initial=0.0)), float(np.max(r_lo, initial=0.0)), 1.0)
         return 1.0 / worst
 

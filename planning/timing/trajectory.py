@@ -127,6 +127,10 @@ class TimedTrajectory:
     dense re-check between samples (0 when none; :func:`planning.timing.limits.dense_ratios`);
     ``j_max``: the jerk limits imposed (None: none) and ``max_jerk_ratio`` the largest
     |Δq̈_j|/(Δt·j_max_j) between consecutive grid points (see :mod:`planning.timing.jerk`).
+    ``tau`` (K, n): the joint torques (N·m or N, inverse dynamics of q, q̇, q̈) at the samples when a
+    robot was given (else None); ``tau_max`` the torque limits imposed (inf: that joint unlimited;
+    None: none); ``max_torque_ratio`` the largest |τ_j|/τmax_j of the dense re-check between samples
+    and ``torque_rounds`` the re-solves it took (see :mod:`planning.timing.torque`).
     """
 
     t: np.ndarray
@@ -149,6 +153,10 @@ class TimedTrajectory:
     overshoot: float = 0.0
     j_max: np.ndarray | None = None
     max_jerk_ratio: float | None = None
+    tau: np.ndarray | None = None
+    tau_max: np.ndarray | None = None
+    max_torque_ratio: float | None = None
+    torque_rounds: int = 0
 
     def sample(self, times) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """q, q̇, q̈ (T, n) at arbitrary times (clipped to [0, duration]), from the exact s(t) of the

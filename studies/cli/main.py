@@ -18,11 +18,25 @@ import sys
 from typing import Sequence
 
 import kin
-from studies.cli import cell, design, follow, kinematics, place, plan, reach, singular, study, sweep, toolpath, urdf
+from studies.cli import (
+    cell,
+    design,
+    follow,
+    kinematics,
+    place,
+    plan,
+    reach,
+    singular,
+    study,
+    sweep,
+    timing,
+    toolpath,
+    urdf,
+)
 from studies.cli.common import EXIT_OK, EXIT_USAGE
 
 #: the command groups, in the order ``rmt --help`` lists their commands
-GROUPS = (kinematics, singular, plan, cell, toolpath, follow, study, design, reach, place, sweep, urdf)
+GROUPS = (kinematics, singular, plan, timing, cell, toolpath, follow, study, design, reach, place, sweep, urdf)
 
 
 class UsageError(Exception):

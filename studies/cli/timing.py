@@ -1,0 +1,153 @@
+"""``rmt time``: the minimum-time (on a grid), rest-to-rest timing of a joint path file under speed,
+acceleration, optional torque and jerk limits (:func:`planning.timing.time_parameterize`).
+
+Units: the path file (what ``rmt plan --out`` writes: one configuration per row, robot file units)
+and ``--v-max``/``--a-max``/``--j-max`` are in the robot file's units (its angle or length unit per
+s, s², s³); ``--tau-max`` in N·m (revolute) or N (prismatic); ``--blend`` and ``--ds`` are SI
+joint-space distances (rad or m, the arc length the timing works in).  Output in the same units."""
+from __future__ import annotations
+
+import csv
+import io
+import math
+
+import numpy as np
+
+from kin.output import write_output
+from studies.cli.common import CliInputError, bounded, numbers, output_file
+from studies.jsonio import dump, finite_or_none
+from studies.units import joint_units
+
+
+def _per_joint(robot, raw, what: str, unit_power: int, default_attr: str | None) -> np.ndarray | None:
+    """A limit per joint from the command line (one value for all, or one per joint; robot file units
+    per s^unit_power → SI), or from the joints' ``default_attr`` (SI) when all are known; None else."""
+    c = robot.chain
+    if raw is None:
+        if default_attr is None:
+            return None
+        known = [getattr(j, default_attr, None) for j in c.joints]
+        return None if any(v is None for v in known) else np.array(known, float)
+    v = numbers(raw, what)
+    if len(v) not in (1, robot.n):
+        raise CliInputError(f"{what}: got {len(v)} values; give one for every joint or {robot.n} "
+                            f"(one per joint of {robot.name})")
+    arr = np.full(robot.n, v[0]) if len(v) == 1 else np.array(v)
+    if not np.all(arr > 0):
+        raise CliInputError(f"{what}: every value must be > 0")
+    return arr if unit_power == 0 else c.to_si(arr)
+
+
+def _csv(robot, tr) -> str:
+    """The sampled trajectory: t, q, q̇, q̈ (robot file units), τ (N·m, N) when known."""
+    c = robot.chain
+    n = robot.n
+    head = ["t"] + [f"q{j}" for j in range(1, n + 1)] + [f"qd{j}" for j in range(1, n + 1)] + \
+        [f"qdd{j}" for j in range(1, n + 1)]
+    cols = [tr.t[:, None], c.from_si(tr.q), c.from_si(tr.qd), c.from_si(tr.qdd)]
+    if tr.tau is not None:
+        head += [f"tau{j}" for j in range(1, n + 1)]
+        cols.append(tr.tau)
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow(head)
+    for row in np.hstack(cols):
+        w.writerow([repr(float(x)) for x in row])
+    return buf.getvalue()
+
+
+def cmd_time(args, load_robot) -> int:
+    from kin.dynamics.rnea import has_inertia
+    from planning.timing import time_parameterize
+    from studies.cli.plan import read_path_csv
+    output_file(args.csv)
+    output_file(args.plot)
+    robot = load_robot(args.robot)
+    c = robot.chain
+    P = read_path_csv(robot, args.path)
+    vmax = _per_joint(robot, args.v_max, "--v-max", 1, "max_velocity")
+    amax = _per_joint(robot, args.a_max, "--a-max", 1, "max_acceleration")
+    for name, v in (("--v-max", vmax), ("--a-max", amax)):
+        if v is None:
+            raise CliInputError(f"{name} is needed: {robot.name}'s joints do not all carry "
+                                f"{'max_velocity' if name == '--v-max' else 'max_acceleration'}")
+    jmax = _per_joint(robot, args.j_max, "--j-max", 1, None)
+    taumax = _per_joint(robot, args.tau_max, "--tau-max", 0, None)
+    use_robot = taumax is not None or has_inertia(c)
+    tr = time_parameterize(P, vmax, amax, ds=args.ds, blend=args.blend, j_max=jmax,
+                           robot=robot if use_robot else None, tau_max=taumax)
+    if args.csv:
+        write_output(args.csv, _csv(robot, tr))
+    names = c.joint_names()
+    if args.plot:
+        from studies.plots.timing import plot_timing
+        plot_timing(tr, args.plot, names, f"{robot.name}: {tr.duration:.4g} s")
+    peak_v = np.max(np.abs(tr.qd), axis=0) / tr.v_max
+    peak_a = np.max(np.abs(tr.qdd), axis=0) / tr.a_max
+    peak_tau = None if tr.tau is None else np.max(np.abs(tr.tau), axis=0)
+    lim = tr.tau_max
+    units = joint_units(c)
+    joints = []
+    for j in range(robot.n):
+        tl = None if lim is None or not math.isfinite(lim[j]) else float(lim[j])
+        joints.append({"name": names[j], "unit": units[j], "peak_velocity_ratio": float(peak_v[j]),
+                       "peak_acceleration_ratio": float(peak_a[j]),
+                       "peak_torque": None if peak_tau is None else float(peak_tau[j]),
+                       "tau_max": tl,
+                       "peak_torque_ratio": None if tl is None else float(peak_tau[j] / tl)})
+    out = {"duration_s": tr.duration, "samples": len(tr.t), "grid_intervals": len(tr.grid) - 1 if tr.grid is not None
+           else 0, "solver": tr.qp_status, "joints": joints,
+           "dense_overshoot": tr.overshoot, "max_torque_ratio": finite_or_none(tr.max_torque_ratio),
+           "torque_rounds": tr.torque_rounds, "max_jerk_ratio": finite_or_none(tr.max_jerk_ratio),
+           "path_max_deviation": tr.path.max_deviation,
+           "v_max": c.from_si(tr.v_max).tolist(), "a_max": c.from_si(tr.a_max).tolist(),
+           "units": {"v_max": "robot file units/s", "a_max": "robot file units/s²", "torque": "N·m or N",
+                     "path_max_deviation": "SI (rad/m joint-space)"}}
+    if args.json:
+        print(dump(out))
+        return 0
+    print(f"duration {tr.duration:.6g} s ({len(tr.t)} samples, {out['grid_intervals']} grid intervals; {tr.qp_status})")
+    hdr = f"  {'joint':>10} {'|q̇|/v':>8} {'|q̈|/a':>8}"
+    if peak_tau is not None:
+        hdr += f" {'|τ| peak':>10} {'τ_max':>8} {'|τ|/τ_max':>9}"
+    print(hdr)
+    for d in joints:
+        line = f"  {d['name']:>10} {d['peak_velocity_ratio']:8.4f} {d['peak_acceleration_ratio']:8.4f}"
+        if peak_tau is not None:
+            tl = "-" if d["tau_max"] is None else f"{d['tau_max']:.4g}"
+            tr_ = "-" if d["peak_torque_ratio"] is None else f"{d['peak_torque_ratio']:.4f}"
+            line += f" {d['peak_torque']:10.4g} {tl:>8} {tr_:>9}"
+        print(line)
+    dense = f"dense re-check between samples: speed/acceleration overshoot {tr.overshoot:.2e}"
+    if tr.max_torque_ratio is not None:
+        dense += f", max |τ|/τ_max {tr.max_torque_ratio:.6f} after {tr.torque_rounds} tightening round(s)"
+    print(dense)
+    if tr.max_jerk_ratio is not None:
+        print(f"jerk ratio between grid points {tr.max_jerk_ratio:.4f}")
+    for f in (args.csv, args.plot):
+        if f:
+            print(f"wrote {f}")
+    return 0
+
+
+def add_commands(add) -> None:
+    sp = add("time", cmd_time, "time a joint path (CSV) under speed, acceleration, torque and jerk limits "
+                               "(minimum time on a grid, rest to rest)")
+    sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
+    sp.add_argument("path", metavar="PATH.csv", help="one configuration per row, robot file units "
+                                                     "(what `rmt plan --out` writes)")
+    sp.add_argument("--v-max", nargs="+", metavar="V", help="joint speed limits, file units/s: one for all joints "
+                                                           "or one per joint (default: the joints' max_velocity)")
+    sp.add_argument("--a-max", nargs="+", metavar="A", help="joint acceleration limits, file units/s² (default: "
+                                                           "the joints' max_acceleration)")
+    sp.add_argument("--tau-max", nargs="+", metavar="T", help="joint torque limits, N·m (revolute) or N "
+                                                             "(prismatic); needs inertial data (default: the "
+                                                             "joints' max_torque where known)")
+    sp.add_argument("--j-max", nargs="+", metavar="J", help="joint jerk limits between grid points, file units/s³")
+    sp.add_argument("--blend", type=bounded(0, 10, "rad or m (SI)"), default=0.05, metavar="R",
+                    help="corner blend half-length, SI joint-space distance (default 0.05; 0: stop at corners)")
+    sp.add_argument("--ds", type=bounded(0, math.inf, "rad or m (SI)", open_low=True), metavar="DS",
+                    help="grid step in SI joint-space arc length (default: path length / 300)")
+    sp.add_argument("--csv", metavar="FILE.csv", help="write the sampled trajectory: t, q, q̇, q̈ (file units), τ")
+    sp.add_argument("--plot", metavar="FILE.png", help="write speed, acceleration and torque over their limits "
+                                                       "against time")

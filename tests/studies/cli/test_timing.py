@@ -1,0 +1,85 @@
+"""``rmt time``: end to end on the Panda (the CSV's torques are the inverse dynamics of its own q, q̇,
+q̈; the JSON's peaks are the CSV's; the plot is written) and hostile inputs (one line, exit 2)."""
+from __future__ import annotations
+
+import csv
+import json
+
+import numpy as np
+import pytest
+
+import kin
+from studies.cli import main
+
+A_MAX = ["15", "7.5", "10", "12.5", "15", "20", "20"]
+TAU = ["52", "52", "52", "52", "7", "7", "7"]
+
+
+def _path_file(tmp_path, rows=None, name="path.csv"):
+    lim = kin.load_chain("franka_panda").limits
+    rng = np.random.default_rng(1)
+    P = rows if rows is not None else lim.mean(1) + 0.4 * (lim[:, 1] - lim[:, 0]) / 2 * rng.uniform(-1, 1, (5, 7))
+    f = tmp_path / name
+    f.write_text("q1,q2,q3,q4,q5,q6,q7\n" + "\n".join(",".join(repr(float(x)) for x in r) for r in P) + "\n")
+    return f
+
+
+def test_panda_end_to_end(tmp_path, capsys):
+    path = _path_file(tmp_path)
+    out_csv, png = tmp_path / "traj.csv", tmp_path / "traj.png"
+    rc = main(["time", "franka_panda", str(path), "--a-max", *A_MAX, "--tau-max", *TAU, "--csv", str(out_csv),
+               "--plot", str(png), "--json"])
+    out, err = capsys.readouterr()
+    assert rc == 0, err
+    R = json.loads(out)
+    rows = list(csv.reader(out_csv.open()))
+    assert rows[0][:2] == ["t", "q1"] and rows[0][-1] == "tau7"
+    X = np.array(rows[1:], float)
+    t, q, qd, qdd, tau = X[:, 0], X[:, 1:8], X[:, 8:15], X[:, 15:22], X[:, 22:29]
+    robot = kin.load_robot("franka_panda")
+    assert np.allclose(tau, robot.inverse_dynamics(q, qd, qdd), rtol=1e-9, atol=1e-9)
+    assert R["duration_s"] == pytest.approx(t[-1]) and R["samples"] == len(t)
+    tmax = np.array(TAU, float)
+    assert [j["tau_max"] for j in R["joints"]] == tmax.tolist()
+    assert np.allclose([j["peak_torque"] for j in R["joints"]], np.abs(tau).max(0))
+    assert max(j["peak_torque_ratio"] for j in R["joints"]) <= 1 + 1e-6
+    assert R["max_torque_ratio"] <= 1 + 1e-6
+    assert np.allclose([j["peak_velocity_ratio"] for j in R["joints"]],
+                       np.abs(qd).max(0) / np.array([2.175] * 4 + [2.61] * 3))
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # the text report names every joint and the dense re-check
+    assert main(["time", "franka_panda", str(path), "--a-max", "10", "--tau-max", *TAU]) == 0
+    text = capsys.readouterr().out
+    assert text.startswith("duration ") and "joint7" in text and "max |τ|/τ_max" in text
+
+
+@pytest.mark.parametrize("extra, what", [
+    (["--a-max", "1", "2"], "--a-max: got 2 values"),
+    (["--a-max", "-1"], "must be > 0"),
+    (["--a-max", "x"], "not a number"),
+    (["--a-max", "10", "--v-max", "nan"], "not a finite number"),
+    (["--a-max", "10", "--ds", "0"], "--ds"),
+    (["--a-max", "10", "--blend", "-1"], "--blend"),
+    (["--a-max", "10", "--tau-max", "5"], "cannot hold the path at rest"),
+    (["--a-max", "10", "--tau-max", "0"], "must be > 0"),
+    ([], "--a-max is needed"),
+])
+def test_hostile_inputs_are_one_line(tmp_path, capsys, extra, what):
+    rc = main(["time", "franka_panda", str(_path_file(tmp_path)), *extra])
+    out, err = capsys.readouterr()
+    assert rc == 2 and out == "" and err.count("\n") == 1 and what in err, err
+
+
+def test_bad_files_and_robots_are_one_line(tmp_path, capsys):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("1,2,3\n")
+    cases = [["time", "franka_panda", str(tmp_path / "missing.csv"), "--a-max", "1"],
+             ["time", "franka_panda", str(bad), "--a-max", "1"],
+             ["time", "fanuc_m16ib20", str(_path_file(tmp_path, np.zeros((2, 6)) + [[0] * 6, [10] * 6], "fanuc.csv")),
+              "--a-max", "100", "--v-max", "100", "--tau-max", "100"],
+             ["time", "franka_panda", str(_path_file(tmp_path)), "--a-max", "1", "--csv", str(tmp_path)]]
+    for argv, what in zip(cases, ["no such joint-path file", "3 values", "no body has inertial data", "bad"]):
+        assert main(argv) == 2, argv
+        out, err = capsys.readouterr()
+        assert out == "" and err.count("\n") == 1, err
+        assert what in err or what == "bad", err
