@@ -154,11 +154,11 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
     w = np.ones((st.K, n))
     b_ref = None
     if tm.viscous:              # a first estimate of ṡ for the viscous tangent (not conservative itself)
-        b_ref = _solve(torque_rows(st, tm, w, None), method, backend, None, bp)[0]
+        b_ref = _solve(torque_rows(st, tm, w, None), method, backend, None, bp, torque=True)[0]
     deadline = time.monotonic() + BUDGET
     rounds = 0
     while True:
-        sol = _solve(torque_rows(st, tm, w, b_ref), method, backend, jmax, bp)
+        sol = _solve(torque_rows(st, tm, w, b_ref), method, backend, jmax, bp, torque=True)
         tr = _finish(sol, st, bp, vmax, amax, jmax, method)
         tau_d, where, tr.tau = dense_torque(robot, tr, ki)
         ratio = float(np.max(np.abs(tau_d) / tmax[None, :]))
@@ -173,7 +173,14 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
     return tr
 
 
-def _solve(st, method: str, backend: str, jmax, bp):
+def _time(st, b: np.ndarray) -> float:
+    """Duration of profile b on the grid of ``st`` (inf when it rests over an interval)."""
+    sq = np.sqrt(np.maximum(b, 0.0))
+    with np.errstate(divide="ignore"):
+        return float(np.sum(2 * st.h / (sq[:-1] + sq[1:])))
+
+
+def _solve(st, method: str, backend: str, jmax, bp, torque: bool = False):
     """b (K+1,) of the rows of ``st`` (scaled to meet them exactly), the scale, the solver's status and
     the jerk ratio (None without ``jmax``)."""
     if method == "qp":
@@ -181,6 +188,14 @@ def _solve(st, method: str, backend: str, jmax, bp):
     else:
         _, b, used = reach(st, backend)
         status = f"reachability ({used})"
+        inner = b[1:-1][st.ub[1:-1] > 0]
+        if torque and np.any(inner <= 0) and st.K <= QP_MAX_INTERVALS:
+            # the greedy pass came to rest where nothing requires it (torque rows couple b_i and b_{i+1}
+            # with either sign, see planning.timing.reachability): the QP's profile instead, if faster
+            bq, qstatus = solve_qp(st)
+            bq = bq * st.residual_scale(bq)
+            if _time(st, bq) < _time(st, b * st.residual_scale(b)):
+                b, status = bq, f"reachability ({used}) came to rest mid-path; OSQP: {qstatus}"
     # one common scale c ≤ 1 makes every row hold exactly (b = 0 meets every row; the set is convex)
     c = st.residual_scale(b)
     b = b * c

@@ -81,9 +81,9 @@ def _unit(robot, j: int) -> str:
 
 
 def torque_limits(robot, tau_max, n: int) -> np.ndarray | None:
-    """τmax (n,) for ``robot`` (validated): ``tau_max`` (a positive finite scalar or n of them, N·m or
-    N) or, when None, the joints' ``max_torque`` where known (inf elsewhere; None when no joint has
-    one).  Raises :class:`TimingError` for a bad value or a robot of another size, and
+    """τmax (n,) for ``robot`` (validated): ``tau_max`` (a positive scalar or n of them, N·m or N; inf:
+    no limit on that joint) or, when None, the joints' ``max_torque`` where known (inf elsewhere);
+    None when no joint is limited.  Raises :class:`TimingError` for a bad value or a robot of another size, and
     :class:`kin.DynamicsError` when the robot has no inertial data."""
     if robot.n != n:
         raise TimingError(f"robot {robot.name} has {robot.n} joints; the path has {n}")
@@ -95,9 +95,10 @@ def torque_limits(robot, tau_max, n: int) -> np.ndarray | None:
         return np.array([np.inf if v is None else float(v) for v in known])
     arr = np.asarray(tau_max, dtype=float) if not isinstance(tau_max, str) else np.array(np.nan)
     v = np.full(n, float(arr)) if arr.ndim == 0 else arr
-    if v.shape != (n,) or not np.all(np.isfinite(v)) or not np.all(v > 0):
-        raise TimingError(f"tau_max {tau_max!r} must be a positive finite number or {n} of them (N·m or N)")
-    return v.astype(float)
+    if v.shape != (n,) or np.any(np.isnan(v)) or not np.all(v > 0):
+        raise TimingError(f"tau_max {tau_max!r} must be a positive number or {n} of them (N·m or N; inf: "
+                          f"no limit on that joint)")
+    return None if np.all(np.isinf(v)) else v.astype(float)
 
 
 def path_model(robot, st: Stages, bp, tau_max: np.ndarray) -> TorqueModel:

@@ -111,10 +111,13 @@ def test_panda_torques_are_the_inverse_dynamics_and_hold_densely(method):
     robot = kin.load_robot("franka_panda")
     W = panda_path()
     tmax = 0.6 * PANDA_TAU
-    free = time_parameterize(W, PANDA_V, PANDA_A, robot=robot)
+    free = time_parameterize(W, PANDA_V, PANDA_A, robot=robot, tau_max=np.inf)
     tr = time_parameterize(W, PANDA_V, PANDA_A, robot=robot, tau_max=tmax, method=method)
     assert np.allclose(tr.tau, robot.inverse_dynamics(tr.q, tr.qd, tr.qdd), rtol=1e-9, atol=1e-9)
     assert free.tau is not None and free.tau_max is None and free.max_torque_ratio is None
+    # without tau_max the file's published limits (87 N·m on joints 1–4, 12 N·m on 5–7) apply
+    filed = time_parameterize(W, PANDA_V, PANDA_A, robot=robot, method=method)
+    assert filed.tau_max.tolist() == [87.0] * 4 + [12.0] * 3 and filed.max_torque_ratio <= 1 + 1e-6
     assert np.max(np.abs(free.tau) / tmax) > 1.0       # the limit matters on this path
     assert tr.duration > free.duration
     ts = np.linspace(0, tr.duration, 30001)
@@ -190,3 +193,16 @@ def test_numpy_backend_and_jerk_limits_with_torque():
     assert c.duration >= a.duration * (1 - 1e-9)
     assert c.max_torque_ratio <= 1 + 1e-6 and c.max_jerk_ratio <= 1 + 1e-9
     assert np.allclose(c.tau, robot.inverse_dynamics(c.q, c.qd, c.qdd), rtol=1e-9, atol=1e-9)
+
+
+def test_a_greedy_stop_mid_path_is_replaced_by_the_qp_profile():
+    """On this Panda path with 0.6 × the published torques the greedy forward pass comes to rest at
+    an interior grid point after the tightening round (found while merging the jerk pass); the
+    result must not rest mid-path, and equals the QP's duration."""
+    robot = kin.load_robot("franka_panda")
+    W = panda_path()
+    tr = time_parameterize(W, PANDA_V, PANDA_A, robot=robot, tau_max=0.6 * PANDA_TAU)
+    qp = time_parameterize(W, PANDA_V, PANDA_A, robot=robot, tau_max=0.6 * PANDA_TAU, method="qp")
+    assert np.min(tr.sd[1:-1]) > 0.1
+    assert tr.duration <= qp.duration * (1 + 1e-6)
+    assert tr.max_torque_ratio <= 1 + 1e-6
