@@ -26,7 +26,6 @@ SI throughout: s, N·m (N for a prismatic joint).
 """
 from __future__ import annotations
 
-import inspect
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -39,18 +38,13 @@ from planning.timing import time_parameterize
 from planning.timing.limits import dense_times
 
 __all__ = ["CycleResult", "evaluate_cycle", "stop_configurations", "choose_branches", "rest_to_rest_time",
-           "cycle_paths", "timing_has_torque", "PER_INTERVAL", "TORQUE_TOL"]
+           "cycle_paths", "PER_INTERVAL", "TORQUE_TOL"]
 
 #: torque samples per trajectory interval (plus its end)
 PER_INTERVAL = 4
 #: a peak torque within this relative margin of tau_max meets it
 TORQUE_TOL = 1e-6
 _SAME = 1e-3            # candidate solutions closer than this (joint-space norm, SI) are one branch
-
-
-def timing_has_torque() -> bool:
-    """Whether :func:`planning.timing.time_parameterize` takes torque limits (``robot``, ``tau_max``)."""
-    return "tau_max" in inspect.signature(time_parameterize).parameters
 
 
 def rest_to_rest_time(dq, v_max, a_max) -> np.ndarray:
@@ -217,9 +211,6 @@ def cycle_paths(q: np.ndarray, approach: np.ndarray | None) -> list[np.ndarray]:
 
 def _timed(path, spec: CycleSpec, dyn_robot):
     if spec.torque == "limit":
-        if not timing_has_torque():
-            raise TaskError("cycle torque = \"limit\": this rmtkit's planning.timing takes no torque limits "
-                            "(use torque = \"check\")")
         return time_parameterize(path, spec.v_max, spec.a_max, blend=spec.blend, robot=dyn_robot,
                                  tau_max=spec.tau_max)
     return time_parameterize(path, spec.v_max, spec.a_max, blend=spec.blend)

@@ -191,3 +191,22 @@ def test_sweep_refuses_cycle_metrics_without_a_cycle(tmp_path):
     with pytest.raises(SweepError, match=r"metrics\[1\]"):
         loads_sweep('name = "s"\ntask = "x"\nmetrics = ["coverage", "cycle_time"]\n[parameters.A1]\nvalues = [200]\n',
                     "s.toml", tmp_path, task=task)
+
+
+def test_torque_limited_cycle_is_the_torque_bang_bang(tmp_path):
+    """torque = "limit" with a motor limit below the acceleration limit's need: the one-joint move is
+    then bang-bang at the torque's acceleration τmax/I (no gravity about z): 2·2√(d·I/τmax), and the
+    peak torque meets the limit."""
+    robot = _one_joint(tmp_path)
+    travel, v, a = 1.0, 5.0, 20.0
+    th = np.array([-travel / 2, travel / 2])
+    T = Targets(np.column_stack([0.5 * np.cos(th), 0.5 * np.sin(th), np.zeros(2)]), tolerance=1e-9)
+    inertia = 2.0 * 0.5 * 0.25 / 3 + 1.0 * 0.25
+    tau = 2.0                                         # < I·a = 8.33 N·m: the motor binds
+    masses = LinkMasses.make(1, mass_per_length=2.0, payload=1.0)
+    check = evaluate_cycle(robot, CycleSpec((0, 1), v, a, tau, masses, blend=0.0), T)
+    limit = evaluate_cycle(robot, CycleSpec((0, 1), v, a, tau, masses, blend=0.0, torque="limit"), T)
+    assert check.peak_torque[0] == pytest.approx(inertia * a, rel=1e-6) and not check.within_torque
+    want = 2 * 2 * math.sqrt(travel * inertia / tau)
+    assert limit.ok and want * (1 - 1e-9) <= limit.cycle_time <= want * (1 + 1e-3)
+    assert limit.peak_torque[0] <= tau * (1 + 1e-6) and limit.within_torque
