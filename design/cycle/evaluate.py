@@ -239,7 +239,9 @@ def evaluate_cycle(robot: kin.Robot, spec: CycleSpec, targets: Targets, params=N
     q = np.array([stops[i][k] for i, k in enumerate(pick)])
     up = None if ups is None else np.array([ups[i][k] for i, k in enumerate(pick)])
     dyn_chain = chain_with_masses(chain, params, spec.masses)
-    dyn = kin.Robot(dyn_chain)
+    # every design has its own masses (numbers in the Newton–Euler graph, not parameters), so a compiled
+    # kernel would be built — and cached on disk — per design for a few thousand evaluations: the VM
+    dyn = kin.Robot(dyn_chain, backend="vm")
     trajs = [_timed(path, spec, dyn) for path in cycle_paths(q, up)]
     peaks = np.max([peak_torques(dyn, tr) for tr in trajs], axis=0)
     seg = np.array([tr.duration for tr in trajs])
