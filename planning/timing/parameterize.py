@@ -65,6 +65,8 @@ SHAPES = ("blend", "spline")
 #: default grid of ``shape="spline"``: this many intervals per span between two waypoints (at least
 #: :data:`DEFAULT_INTERVALS`); the time converges from above as the grid is refined
 SPLINE_INTERVALS_PER_SPAN = 30
+#: time budget (s) of the QP tried when the greedy pass rests mid-path under torque rows
+FALLBACK_QP_TIME = 0.5
 #: samples per trajectory interval of the dense re-check (fewer on fine grids: at most
 #: :data:`DENSE_SAMPLES` in all, at least one inside every interval)
 DENSE_PER_INTERVAL = 8
@@ -192,10 +194,14 @@ def _solve(st, method: str, backend: str, jmax, bp, torque: bool = False):
         if torque and np.any(inner <= 0) and st.K <= QP_MAX_INTERVALS:
             # the greedy pass came to rest where nothing requires it (torque rows couple b_i and b_{i+1}
             # with either sign, see planning.timing.reachability): the QP's profile instead, if faster
-            bq, qstatus = solve_qp(st)
-            bq = bq * st.residual_scale(bq)
-            if _time(st, bq) < _time(st, b * st.residual_scale(b)):
-                b, status = bq, f"reachability ({used}) came to rest mid-path; OSQP: {qstatus}"
+            try:
+                bq, qstatus = solve_qp(st, FALLBACK_QP_TIME)
+            except TimingError as e:          # OSQP did not converge: the greedy profile stands (feasible)
+                status += f" (rests mid-path; the QP tried instead failed: {e})"
+            else:
+                bq = bq * st.residual_scale(bq)
+                if _time(st, bq) < _time(st, b * st.residual_scale(b)):
+                    b, status = bq, f"reachability ({used}) came to rest mid-path; OSQP: {qstatus}"
     # one common scale c ≤ 1 makes every row hold exactly (b = 0 meets every row; the set is convex)
     c = st.residual_scale(b)
     b = b * c

@@ -43,9 +43,9 @@ def row_matrix(st: Stages) -> sps.csc_matrix:
     return sps.csc_matrix((np.r_[st.ci, st.cj], (np.r_[rr, rr], np.r_[st.iv, st.iv + 1])), shape=(R, st.K + 1))
 
 
-def solve_qp(st: Stages) -> tuple[np.ndarray, str]:
+def solve_qp(st: Stages, time_limit: float = TIME_LIMIT) -> tuple[np.ndarray, str]:
     """b (K+1,) ≥ 0 of the QP in the module docstring (before the caller's scale repair) and OSQP's
-    status.  Raises :class:`TimingError` when OSQP does not solve it."""
+    status, within ``time_limit`` seconds.  Raises :class:`TimingError` when OSQP does not solve it."""
     nb = st.K + 1
     A = sps.vstack([sps.identity(nb, format="csc"), row_matrix(st)], format="csc")
     lo = np.r_[np.zeros(nb), st.lo]
@@ -59,7 +59,7 @@ def solve_qp(st: Stages) -> tuple[np.ndarray, str]:
     beta *= 1.0 + 1e-6          # strictly decreasing up to the bound itself
     P = sps.diags(np.maximum(w, 1e-12) / beta ** 2, format="csc")
     solver = osqp.OSQP()
-    solver.setup(P, -w / beta, A, lo, up, **_SETTINGS)
+    solver.setup(P, -w / beta, A, lo, up, **{**_SETTINGS, "time_limit": time_limit})
     res = solver.solve(raise_error=False)
     status = res.info.status
     if status not in ("solved", "solved inaccurate"):
