@@ -66,7 +66,7 @@ SHAPES = ("blend", "spline")
 #: :data:`DEFAULT_INTERVALS`); the time converges from above as the grid is refined
 SPLINE_INTERVALS_PER_SPAN = 30
 #: time budget (s) of the QP tried when the greedy pass rests mid-path under torque rows
-FALLBACK_QP_TIME = 0.5
+FALLBACK_QP_TIME = 2.0
 #: samples per trajectory interval of the dense re-check (fewer on fine grids: at most
 #: :data:`DENSE_SAMPLES` in all, at least one inside every interval)
 DENSE_PER_INTERVAL = 8
