@@ -4,19 +4,30 @@ acceleration, optional torque and jerk limits (:func:`planning.timing.time_param
 Units: the path file (what ``rmt plan --out`` writes: one configuration per row, robot file units)
 and ``--v-max``/``--a-max``/``--j-max`` are in the robot file's units (its angle or length unit per
 s, s², s³); ``--tau-max`` in N·m (revolute) or N (prismatic); ``--blend`` and ``--ds`` are SI
-joint-space distances (rad or m, the arc length the timing works in).  Output in the same units."""
+joint-space distances (rad or m, the arc length the timing works in).  Output in the same units.
+
+``--shape spline`` times the spline through every waypoint instead of the blended polyline; between
+waypoints it leaves the straight segments (a path certified segment by segment is no longer covered
+by that proof) and may leave the joint limits: the exact range of every joint along it is checked
+(exit 1 when outside), and ``--path-out`` writes it as a dense path for ``rmt check-path`` (windows,
+cell)."""
 from __future__ import annotations
 
 import csv
 import io
 import math
+import sys
 
 import numpy as np
 
 from kin.output import write_output
-from studies.cli.common import CliInputError, bounded, numbers, output_file
+from planning.timing.parameterize import SHAPES
+from studies.cli.common import EXIT_FAIL, CliInputError, bounded, numbers, output_file
 from studies.jsonio import dump, finite_or_none
 from studies.units import joint_units
+
+#: largest joint-space distance (rad or m) between the shaped path and the polyline ``--path-out`` writes
+SHAPED_TOLERANCE = 1e-4
 
 
 def _per_joint(robot, raw, what: str, unit_power: int, default_attr: str | None) -> np.ndarray | None:
@@ -62,6 +73,7 @@ def cmd_time(args, load_robot) -> int:
     from studies.cli.plan import read_path_csv
     output_file(args.csv)
     output_file(args.plot)
+    output_file(args.path_out)
     robot = load_robot(args.robot)
     c = robot.chain
     P = read_path_csv(robot, args.path)
@@ -75,9 +87,14 @@ def cmd_time(args, load_robot) -> int:
     taumax = _per_joint(robot, args.tau_max, "--tau-max", 0, None)
     use_robot = taumax is not None or has_inertia(c)
     tr = time_parameterize(P, vmax, amax, ds=args.ds, blend=args.blend, j_max=jmax,
-                           robot=robot if use_robot else None, tau_max=taumax)
+                           robot=robot if use_robot else None, tau_max=taumax, shape=args.shape)
     if args.csv:
         write_output(args.csv, _csv(robot, tr))
+    if args.path_out:
+        from studies.cli.plan import write_path_csv
+        write_path_csv(robot, tr.path.polyline(SHAPED_TOLERANCE), args.path_out)
+    lo, hi = tr.path.joint_range()
+    outside = [j for j in range(robot.n) if lo[j] < c.lower[j] - 1e-12 or hi[j] > c.upper[j] + 1e-12]
     names = c.joint_names()
     if args.plot:
         from studies.plots.timing import plot_timing
@@ -99,13 +116,14 @@ def cmd_time(args, load_robot) -> int:
            else 0, "solver": tr.qp_status, "joints": joints,
            "dense_overshoot": tr.overshoot, "max_torque_ratio": finite_or_none(tr.max_torque_ratio),
            "torque_rounds": tr.torque_rounds, "max_jerk_ratio": finite_or_none(tr.max_jerk_ratio),
-           "path_max_deviation": tr.path.max_deviation,
+           "path_max_deviation": tr.path.max_deviation, "shape": args.shape,
+           "joints_leaving_limits": [names[j] for j in outside],
            "v_max": c.from_si(tr.v_max).tolist(), "a_max": c.from_si(tr.a_max).tolist(),
            "units": {"v_max": "robot file units/s", "a_max": "robot file units/s²", "torque": "N·m or N",
                      "path_max_deviation": "SI (rad/m joint-space)"}}
     if args.json:
         print(dump(out))
-        return 0
+        return EXIT_FAIL if outside else 0
     print(f"duration {tr.duration:.6g} s ({len(tr.t)} samples, {out['grid_intervals']} grid intervals; {tr.qp_status})")
     hdr = f"  {'joint':>10} {'|q̇|/v':>8} {'|q̈|/a':>8}"
     if peak_tau is not None:
@@ -124,9 +142,15 @@ def cmd_time(args, load_robot) -> int:
     print(dense)
     if tr.max_jerk_ratio is not None:
         print(f"jerk ratio between grid points {tr.max_jerk_ratio:.4f}")
-    for f in (args.csv, args.plot):
+    for f in (args.csv, args.plot, args.path_out):
         if f:
             print(f"wrote {f}")
+    if outside:
+        j = outside[0]
+        print(f"the {args.shape} path leaves joint {names[j]}'s limits [{c.from_si(c.lower)[j]:.6g}, "
+              f"{c.from_si(c.upper)[j]:.6g}]: it spans [{c.from_si(lo)[j]:.6g}, {c.from_si(hi)[j]:.6g}] "
+              f"({units[j]})", file=sys.stderr)
+        return EXIT_FAIL
     return 0
 
 
@@ -148,6 +172,11 @@ def add_commands(add) -> None:
                     help="corner blend half-length, SI joint-space distance (default 0.05; 0: stop at corners)")
     sp.add_argument("--ds", type=bounded(0, math.inf, "rad or m (SI)", open_low=True), metavar="DS",
                     help="grid step in SI joint-space arc length (default: path length / 300)")
+    sp.add_argument("--shape", choices=SHAPES, default="blend",
+                    help="blend: straight segments, corners cut within --blend (default); spline: the C¹ spline "
+                         "through every waypoint (faster through many close waypoints)")
+    sp.add_argument("--path-out", metavar="FILE.csv", help="write the shaped path as a dense joint path CSV "
+                    f"(within {SHAPED_TOLERANCE:g} rad or m of it) for `rmt check-path`")
     sp.add_argument("--csv", metavar="FILE.csv", help="write the sampled trajectory: t, q, q̇, q̈ (file units), τ")
     sp.add_argument("--plot", metavar="FILE.png", help="write speed, acceleration and torque over their limits "
                                                        "against time")

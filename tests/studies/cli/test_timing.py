@@ -83,3 +83,35 @@ def test_bad_files_and_robots_are_one_line(tmp_path, capsys):
         out, err = capsys.readouterr()
         assert out == "" and err.count("\n") == 1, err
         assert what in err or what == "bad", err
+
+
+def test_spline_shape_path_out_and_joint_limits(tmp_path, capsys):
+    """--shape spline is faster through many close waypoints; --path-out holds every waypoint (a knot of
+    the spline, hence a polyline vertex) and `rmt check-path` reads it; a spline that overshoots a joint
+    limit between waypoints exits 1 naming the joint (q4 = −1.5, −0.08, −0.08, −1.5 at equal steps: the
+    not-a-knot cubic through them is the parabola peaking at +0.0975 rad, above the Panda's −0.0698)."""
+    lim = kin.load_chain("franka_panda").limits
+    u = np.linspace(0, 1, 25)[:, None]
+    rows = lim.mean(1) + 0.3 * (lim[:, 1] - lim[:, 0]) / 2 * np.sin(2 * np.pi * (u + np.arange(7) / 7))
+    path = _path_file(tmp_path, rows)
+    runs = {}
+    for shape in ("blend", "spline"):
+        out = tmp_path / f"{shape}.csv"
+        rc = main(["time", "franka_panda", str(path), "--a-max", *A_MAX, "--shape", shape, "--path-out", str(out),
+                   "--json"])
+        runs[shape] = json.loads(capsys.readouterr().out)
+        assert rc == 0 and runs[shape]["shape"] == shape and runs[shape]["joints_leaving_limits"] == []
+    assert runs["spline"]["duration_s"] < runs["blend"]["duration_s"]
+    dense = np.array(list(csv.reader((tmp_path / "spline.csv").open()))[1:], float)
+    assert len(dense) > 10 * len(rows)
+    for w in rows:
+        assert np.min(np.linalg.norm(dense - w, axis=1)) < 1e-9
+    assert main(["check-path", "franka_panda", str(tmp_path / "spline.csv")]) == 0
+    capsys.readouterr()
+    bad = np.tile(lim.mean(1), (4, 1))
+    bad[:, 3] = [-1.5, -0.08, -0.08, -1.5]
+    bad[:, 0] = [0.0, 0.01, 0.02, 0.03]                # distinct rows (joint 1 barely moves)
+    rc = main(["time", "franka_panda", str(_path_file(tmp_path, bad, "bad.csv")), "--a-max", *A_MAX,
+               "--shape", "spline"])
+    err = capsys.readouterr().err
+    assert rc == 1 and "leaves joint joint4's limits" in err and "0.0975" in err
