@@ -64,7 +64,7 @@ METHODS = ("reach", "qp")
 SHAPES = ("blend", "spline")
 #: default grid of ``shape="spline"``: this many intervals per span between two waypoints (at least
 #: :data:`DEFAULT_INTERVALS`); the time converges from above as the grid is refined
-SPLINE_INTERVALS_PER_SPAN = 30
+SPLINE_INTERVALS_PER_SPAN = 20
 #: time budget (s) of the QP tried when the greedy pass rests mid-path under torque rows
 FALLBACK_QP_TIME = 2.0
 #: samples per trajectory interval of the dense re-check (fewer on fine grids: at most
