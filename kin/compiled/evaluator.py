@@ -19,7 +19,6 @@ in the arrays to fill: ``T``, ``J``, ``measures``, or single measure columns ``m
 from __future__ import annotations
 
 import ctypes
-import sys
 import threading
 from pathlib import Path
 from typing import Protocol, runtime_checkable
@@ -28,14 +27,12 @@ import casadi as ca
 import numpy as np
 
 from kin.chain import MAX_PRISMATIC
-from kin.errors import CompileError, OutBufferError
+from kin.errors import OutBufferError
 from kin.native import (
     Header,
-    build,
+    build_with_extension,
     default_threads,
     graph_table,
-    load_extension,
-    python_extension_flags,
     with_fallback,
 )
 from kin.symbolic import SymbolicChain
@@ -191,18 +188,9 @@ class CompiledEvaluator:
         self.last_threads = 0
         header = self.header(block)
         name = sym.chain.name
-        variants = list(dict.fromkeys([python_extension_flags(), ()]))
-        for k, extra in enumerate(variants):
-            abi = (sys.version, np.__version__) if extra else ()  # an extension module is tied to both ABIs
-            try:
-                lib = build(f"fk_{name}", KERNEL, header, flags=extra, key=abi, arch=arch, compiler=compiler,
-                            directory=directory, what=f"the batch kernel of {name}")
-                break
-            except CompileError:
-                if k == len(variants) - 1:
-                    raise
+        lib, self.single = build_with_extension(f"fk_{name}", KERNEL, header, arch=arch, compiler=compiler,
+                                                directory=directory, what=f"the batch kernel of {name}")
         self.path, self.arch, self.cached = lib.path, lib.arch, lib.cached
-        self.single = load_extension(lib.path, lib.module_name) if extra else None
         # the batch entry releases the GIL (CDLL); the single-configuration entry keeps it (PyDLL),
         # which is cheaper per call and, with the lock, keeps the shared buffers consistent
         self._lib = ctypes.CDLL(str(self.path))

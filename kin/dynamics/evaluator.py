@@ -20,7 +20,6 @@ or q′ and q″) and P (n_p,) or (N, n_p) → float64 (N, n, cols).
 from __future__ import annotations
 
 import ctypes
-import sys
 from pathlib import Path
 
 import casadi as ca
@@ -28,14 +27,12 @@ import numpy as np
 
 from kin.chain import MAX_PRISMATIC
 from kin.dynamics.rnea import InverseDynamics
-from kin.errors import ArgumentError, CompileError
+from kin.errors import ArgumentError
 from kin.native import (
     Header,
-    build,
+    build_with_extension,
     default_threads,
     graph_table,
-    load_extension,
-    python_extension_flags,
     with_fallback,
 )
 
@@ -99,18 +96,9 @@ class CompiledDynamics:
         self.last_threads = 0
         header = self.header(block)
         name = dyn.chain.name
-        variants = list(dict.fromkeys([python_extension_flags(), ()]))
-        for k, extra in enumerate(variants):
-            abi = (sys.version, np.__version__) if extra else ()  # an extension module is tied to both ABIs
-            try:
-                lib = build(f"dyn_{name}", KERNEL, header, flags=extra, key=abi, arch=arch, compiler=compiler,
-                            directory=directory, what=f"the dynamics kernel of {name}")
-                break
-            except CompileError:
-                if k == len(variants) - 1:
-                    raise
+        lib, self.single = build_with_extension(f"dyn_{name}", KERNEL, header, arch=arch, compiler=compiler,
+                                                directory=directory, what=f"the dynamics kernel of {name}")
         self.path, self.arch, self.cached = lib.path, lib.arch, lib.cached
-        self.single = load_extension(lib.path, lib.module_name) if extra else None
         self._lib = ctypes.CDLL(str(self.path))  # releases the GIL during a batch
         f = self._lib.rmt_dyn_eval
         vp, ll = ctypes.c_void_p, ctypes.c_longlong

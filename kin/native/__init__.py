@@ -10,7 +10,7 @@ batch and single call), ``kin/ik/ik.c`` (the batch IK solver) and ``planning/tim
 (TOPP-RA's reachability passes); :func:`load_extension` loads a library built as an extension module.
 """
 from kin.native.builder import COMMON_FLAGS, NATIVE_TIMEOUT, Library, build, library_dir
-from kin.native.extension import load_extension
+from kin.native.extension import build_with_extension, load_extension
 from kin.native.fallback import with_fallback
 from kin.native.graph import graph_table
 from kin.native.header import Header, c_double
@@ -18,4 +18,4 @@ from kin.native.settings import cache_dir, default_threads, find_compiler, pytho
 
 __all__ = ["COMMON_FLAGS", "NATIVE_TIMEOUT", "Header", "Library", "build", "c_double", "cache_dir",
            "default_threads", "find_compiler", "graph_table", "library_dir", "load_extension", "python_extension_flags",
-           "requested_arch", "with_fallback"]
+           "requested_arch", "with_fallback", "build_with_extension"]

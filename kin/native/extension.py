@@ -24,3 +24,29 @@ def load_extension(path: Path, name: str):
             module = None
         _EXTENSIONS[key] = module
     return _EXTENSIONS[key]
+
+
+def build_with_extension(name: str, source: Path, header: str, *, arch, compiler, directory, what: str):
+    """Build ``source`` with ``header`` as a CPython extension module (the single-call entry), or, when
+    that does not compile (no Python or numpy headers), as a plain library: the
+    :class:`~kin.native.builder.Library` and its extension module (None for a plain one).  An extension
+    module is tied to the Python and numpy ABIs, which are part of its cache key."""
+    import sys
+
+    import numpy as np
+
+    from kin.errors import CompileError
+    from kin.native.builder import build
+    from kin.native.settings import python_extension_flags
+    variants = list(dict.fromkeys([python_extension_flags(), ()]))
+    for k, extra in enumerate(variants):
+        abi = (sys.version, np.__version__) if extra else ()
+        try:
+            lib = build(name, source, header, flags=extra, key=abi, arch=arch, compiler=compiler,
+                        directory=directory, what=what)
+        except CompileError:
+            if k == len(variants) - 1:
+                raise
+            continue
+        return lib, (load_extension(lib.path, lib.module_name) if extra else None)
+    raise CompileError(f"{what}: nothing to build")          # unreachable: variants is never empty
