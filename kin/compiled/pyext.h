@@ -8,27 +8,14 @@
    library is shared by every chain of the same structure, so the nominal values are the caller's),
    and returns None for anything else (the Python caller then validates and reports).  Runs with
    the GIL held, on stack buffers. */
-#define PY_SSIZE_T_CLEAN
-#include <Python.h>
-#define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
-#include <numpy/arrayobject.h>
-
-static const double* rmt_py_vec(PyObject* o, int n, int joints) {
-  if (!PyArray_CheckExact(o)) return NULL;
-  PyArrayObject* a = (PyArrayObject*)o;
-  if (PyArray_TYPE(a) != NPY_DOUBLE || PyArray_NDIM(a) != 1 || PyArray_DIM(a, 0) != n
-      || !PyArray_ISCARRAY_RO(a) || PyArray_ISBYTESWAPPED(a)) return NULL;
-  const double* v = (const double*)PyArray_DATA(a);
-  if (joints) for (int i = 0; i < n; ++i) if (!rmt_q_ok(i, v[i])) return NULL;
-  return v;
-}
+#include "rmt_pyext.h"
 
 /* (q, p) of a call: q float64 (n,) accepted by rmt_q_ok, p float64 (n_p,) (the caller's nominal parameters). */
 static int rmt_py_qp(PyObject* const* args, Py_ssize_t nargs, Py_ssize_t want_args, const double** q,
                      const double** p) {
   if (nargs != want_args) { PyErr_SetString(PyExc_TypeError, "wrong number of arguments"); return -1; }
-  *q = rmt_py_vec(args[0], RMT_N, 1);
-  *p = RMT_NP > 0 ? rmt_py_vec(args[1], RMT_NP, 0) : rmt_gp;
+  *q = rmt_py_vec(args[0], RMT_N, RMT_PY_JOINTS);
+  *p = RMT_NP > 0 ? rmt_py_vec(args[1], RMT_NP, RMT_PY_ANY) : rmt_gp;
   return (*q && *p) ? 1 : 0;
 }
 
@@ -79,7 +66,6 @@ static PyObject* rmt_py_measures(PyObject* self, PyObject* const* args, Py_ssize
 }
 
 static PyMethodDef rmt_py_methods[] = {
-#define RMT_PY_FN(f) (PyCFunction)(void(*)(void))(f), METH_FASTCALL
   { "fk", RMT_PY_FN(rmt_py_fk), "fk(q, p): T (4, 4) of one configuration, or None" },
   { "jacobian", RMT_PY_FN(rmt_py_jacobian), "jacobian(q, p): J (6, n) of one configuration, or None" },
   { "fk_jacobian", RMT_PY_FN(rmt_py_fk_jacobian), "fk_jacobian(q, p): (T, J) of one configuration, or None" },
@@ -87,16 +73,5 @@ static PyMethodDef rmt_py_methods[] = {
   { NULL, NULL, 0, NULL }
 };
 
-/* The module is named after the library file (RMT_LIBRARY_NAME, set by the build): CPython keeps
-   single-phase extension modules by name, so two libraries must never share one. */
-#define RMT_CAT2(a, b) a##b
-#define RMT_CAT(a, b) RMT_CAT2(a, b)
-#define RMT_STR2(a) #a
-#define RMT_STR(a) RMT_STR2(a)
-static struct PyModuleDef rmt_py_module = { PyModuleDef_HEAD_INIT, RMT_STR(RMT_LIBRARY_NAME), NULL, -1, rmt_py_methods };
-
-PyMODINIT_FUNC RMT_CAT(PyInit_, RMT_LIBRARY_NAME)(void) {
-  import_array();
-  return PyModule_Create(&rmt_py_module);
-}
+RMT_PY_MODULE(rmt_py_methods)
 #endif
