@@ -31,7 +31,6 @@ machine's load: figures taken while other processes run are not reliable.
 """
 from __future__ import annotations
 
-import argparse
 import os
 import platform
 import statistics
@@ -42,7 +41,7 @@ import numpy as np
 
 import kin
 from planning.timing import BlendedPath, blend_path, ptp_move, time_parameterize
-from studies.jsonio import dump
+from studies.benchmarks.driver import repeats_main
 
 WAYPOINTS = 100
 GRIDS = (301, 1001)
@@ -252,13 +251,7 @@ def format_report(R: dict) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="bench_timing", description=__doc__.splitlines()[0])
-    ap.add_argument("--json", action="store_true", help="print one JSON object")
-    ap.add_argument("--quick", action="store_true", help=f"{QUICK_REPEATS} repeats instead of {REPEATS}")
-    args = ap.parse_args(argv)
-    R = run(args.quick)
-    print(dump(R) if args.json else format_report(R))
-    return 0
+    return repeats_main("bench_timing", __doc__, run, format_report, QUICK_REPEATS, REPEATS, argv)
 
 
 if __name__ == "__main__":

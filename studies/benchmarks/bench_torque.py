@@ -23,7 +23,6 @@ within 0.5 % of TOPP-RA's or shorter, compute time no more than TOPP-RA's.
 """
 from __future__ import annotations
 
-import argparse
 import os
 import platform
 import sys
@@ -34,7 +33,7 @@ import numpy as np
 import kin
 from planning.timing import blend_path, time_parameterize
 from studies.benchmarks.bench_timing import ToppraPath, _median_time, overshoot
-from studies.jsonio import dump
+from studies.benchmarks.driver import repeats_main
 
 os.environ.setdefault("RMTKIT_THREADS", "1")
 
@@ -207,13 +206,7 @@ def format_report(R: dict) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="bench_torque", description=__doc__.splitlines()[0])
-    ap.add_argument("--json", action="store_true", help="print one JSON object")
-    ap.add_argument("--quick", action="store_true", help=f"{QUICK_REPEATS} repeats instead of {REPEATS}")
-    args = ap.parse_args(argv)
-    R = run(args.quick)
-    print(dump(R) if args.json else format_report(R))
-    return 0
+    return repeats_main("bench_torque", __doc__, run, format_report, QUICK_REPEATS, REPEATS, argv)
 
 
 if __name__ == "__main__":

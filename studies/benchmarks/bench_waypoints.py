@@ -22,7 +22,6 @@ time no more than TOPP-RA's.
 """
 from __future__ import annotations
 
-import argparse
 import logging
 import os
 import platform
@@ -32,7 +31,7 @@ import numpy as np
 
 from planning.timing import time_parameterize
 from studies.benchmarks.bench_timing import _median_time, fanuc_path
-from studies.jsonio import dump
+from studies.benchmarks.driver import repeats_main
 
 V = np.array([2.5, 2.5, 3.0, 5.0, 5.0, 7.0])
 A = np.array([10.0, 10.0, 12.0, 20.0, 20.0, 30.0])
@@ -127,13 +126,7 @@ def format_report(R: dict) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="bench_waypoints", description=__doc__.splitlines()[0])
-    ap.add_argument("--json", action="store_true", help="print one JSON object")
-    ap.add_argument("--quick", action="store_true", help=f"{QUICK_REPEATS} repeats instead of {REPEATS}")
-    args = ap.parse_args(argv)
-    R = run(args.quick)
-    print(dump(R) if args.json else format_report(R))
-    return 0
+    return repeats_main("bench_waypoints", __doc__, run, format_report, QUICK_REPEATS, REPEATS, argv)
 
 
 if __name__ == "__main__":

@@ -25,3 +25,17 @@ def measure_and_print(name: str, as_json: bool, run: Callable[[Callable[[str], N
         return 1
     print(dump(R) if as_json else format_report(R))
     return 0
+
+
+def repeats_main(prog: str, doc: str, run: Callable[[bool], dict], format_report: Callable[[dict], str],
+                 quick_repeats: int, repeats: int, argv: list[str] | None = None) -> int:
+    """The ``main`` of a benchmark whose ``run(quick)`` takes the median of repeats: ``--json`` prints
+    one JSON object, ``--quick`` takes ``quick_repeats`` repeats instead of ``repeats``."""
+    import argparse
+    ap = argparse.ArgumentParser(prog=prog, description=doc.splitlines()[0])
+    ap.add_argument("--json", action="store_true", help="print one JSON object")
+    ap.add_argument("--quick", action="store_true", help=f"{quick_repeats} repeats instead of {repeats}")
+    args = ap.parse_args(argv)
+    R = run(args.quick)
+    print(dump(R) if args.json else format_report(R))
+    return 0
