@@ -44,6 +44,7 @@ from planning.timing.jerk import jerk_limit
 from planning.timing.limits import _limits, dense_ratios
 from planning.timing.qp import solve_qp
 from planning.timing.reachability import BACKENDS, reach
+from planning.timing.repair import repair_rests
 from planning.timing.shaping import blend_path
 from planning.timing.spline import spline_path
 from planning.timing.stages import build_stages, sample_profile
@@ -65,8 +66,6 @@ SHAPES = ("blend", "spline")
 #: default grid of ``shape="spline"``: this many intervals per span between two waypoints (at least
 #: :data:`DEFAULT_INTERVALS`); the time converges from above as the grid is refined
 SPLINE_INTERVALS_PER_SPAN = 20
-#: time budget (s) of the QP tried when the greedy pass rests mid-path under torque rows
-FALLBACK_QP_TIME = 2.0
 #: samples per trajectory interval of the dense re-check (fewer on fine grids: at most
 #: :data:`DENSE_SAMPLES` in all, at least one inside every interval)
 DENSE_PER_INTERVAL = 8
@@ -175,13 +174,6 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
     return tr
 
 
-def _time(st, b: np.ndarray) -> float:
-    """Duration of profile b on the grid of ``st`` (inf when it rests over an interval)."""
-    sq = np.sqrt(np.maximum(b, 0.0))
-    with np.errstate(divide="ignore"):
-        return float(np.sum(2 * st.h / (sq[:-1] + sq[1:])))
-
-
 def _solve(st, method: str, backend: str, jmax, bp, torque: bool = False):
     """b (K+1,) of the rows of ``st`` (scaled to meet them exactly), the scale, the solver's status and
     the jerk ratio (None without ``jmax``)."""
@@ -190,18 +182,11 @@ def _solve(st, method: str, backend: str, jmax, bp, torque: bool = False):
     else:
         _, b, used = reach(st, backend)
         status = f"reachability ({used})"
-        inner = b[1:-1][st.ub[1:-1] > 0]
-        if torque and np.any(inner <= 0) and st.K <= QP_MAX_INTERVALS:
-            # the greedy pass came to rest where nothing requires it (torque rows couple b_i and b_{i+1}
-            # with either sign, see planning.timing.reachability): the QP's profile instead, if faster
-            try:
-                bq, qstatus = solve_qp(st, FALLBACK_QP_TIME)
-            except TimingError as e:          # OSQP did not converge: the greedy profile stands (feasible)
-                status += f" (rests mid-path; the QP tried instead failed: {e})"
-            else:
-                bq = bq * st.residual_scale(bq)
-                if _time(st, bq) < _time(st, b * st.residual_scale(b)):
-                    b, status = bq, f"reachability ({used}) came to rest mid-path; OSQP: {qstatus}"
+        if torque:
+            # the greedy pass can come to rest where nothing requires it under torque rows
+            b, fixed = repair_rests(st, b * st.residual_scale(b))
+            if fixed:
+                status += f", {fixed} rest{'' if fixed == 1 else 's'} mid-path repaired"
     # one common scale c ≤ 1 makes every row hold exactly (b = 0 meets every row; the set is convex)
     c = st.residual_scale(b)
     b = b * c

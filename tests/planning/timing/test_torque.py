@@ -195,14 +195,15 @@ def test_numpy_backend_and_jerk_limits_with_torque():
     assert np.allclose(c.tau, robot.inverse_dynamics(c.q, c.qd, c.qdd), rtol=1e-9, atol=1e-9)
 
 
-def test_a_greedy_stop_mid_path_is_replaced_by_the_qp_profile():
+def test_a_greedy_stop_mid_path_is_repaired():
     """On this Panda path with 0.6 × the published torques the greedy forward pass comes to rest at
-    an interior grid point after the tightening round (found while merging the jerk pass); the
-    result must not rest mid-path, and equals the QP's duration."""
+    an interior grid point after the tightening round (found while merging the jerk pass); the local
+    LP repair (planning.timing.repair) must remove the rest and come within 0.2 % of the QP's
+    duration on the same grid."""
     robot = kin.load_robot("franka_panda")
     W = panda_path()
     tr = time_parameterize(W, PANDA_V, PANDA_A, robot=robot, tau_max=0.6 * PANDA_TAU)
     qp = time_parameterize(W, PANDA_V, PANDA_A, robot=robot, tau_max=0.6 * PANDA_TAU, method="qp")
-    assert np.min(tr.sd[1:-1]) > 0.1
-    assert tr.duration <= qp.duration * (1 + 1e-6)
+    assert np.min(tr.sd[1:-1]) > 0.1 and "mid-path repaired" in tr.qp_status
+    assert tr.duration <= qp.duration * (1 + 2e-3)
     assert tr.max_torque_ratio <= 1 + 1e-6

@@ -91,3 +91,13 @@ def test_report_holds_the_numbers(run):
 def test_report_renders_in_a_browser(run, report_browser):
     _, results, d = run
     assert_report_renders(report_browser, d / "report.html", results)
+
+
+def test_nominal_design_timed_under_its_torque_limits(run):
+    """torque = "limit": the nominal design, over J1's limit when timed under speed and acceleration
+    only, holds every motor limit once timed under them too, and is no faster for it."""
+    _, results, _ = run
+    nom, lim = results["nominal"], results["nominal_torque_limited"]
+    assert nom["torque_ratio"] > 1 and lim["torque_ratio"] <= 1 + 1e-6 and lim["within_torque_limits"]
+    assert lim["cycle_time_s"] >= nom["cycle_time_s"] * (1 - 1e-9)
+
