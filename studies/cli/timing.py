@@ -21,11 +21,13 @@ import sys
 import numpy as np
 
 from kin.output import write_output
-from planning.timing.parameterize import SHAPES
 from studies.cli.common import EXIT_FAIL, CliInputError, bounded, numbers, output_file
 from studies.jsonio import dump, finite_or_none
 from studies.units import joint_units
 
+#: the path shapes of planning.timing.time_parameterize (``SHAPES``; not imported here: ``rmt --help``
+#: must not load scipy or CasADi)
+SHAPES = ("blend", "spline")
 #: largest joint-space distance (rad or m) between the shaped path and the polyline ``--path-out`` writes
 SHAPED_TOLERANCE = 1e-4
 

@@ -115,3 +115,10 @@ def test_spline_shape_path_out_and_joint_limits(tmp_path, capsys):
                "--shape", "spline"])
     err = capsys.readouterr().err
     assert rc == 1 and "leaves joint joint4's limits" in err and "0.0975" in err
+
+
+def test_the_cli_offers_exactly_the_shapes_of_the_timing():
+    import planning.timing.parameterize as timing
+    import studies.cli.timing as cli
+    assert cli.SHAPES == timing.SHAPES
+
