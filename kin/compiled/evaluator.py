@@ -23,7 +23,6 @@ import threading
 from pathlib import Path
 from typing import Protocol, runtime_checkable
 
-import casadi as ca
 import numpy as np
 
 from kin.chain import MAX_PRISMATIC
@@ -36,6 +35,7 @@ from kin.native import (
     with_fallback,
 )
 from kin.symbolic import SymbolicChain
+from kin.vmmap import map_rows
 
 #: the batch kernel's C source (headers beside it: measures.h, pyext.h; shared: rmt_sincos.h and the rest)
 KERNEL = Path(__file__).resolve().with_name("kernel.c")
@@ -107,32 +107,16 @@ class VMEvaluator:
         self.n = sym.n
         self.rows = list(sym.task_rows)
         self._f = sym.fkj_function
-        self._maps: dict[int, ca.Function] = {}
-
-    def _mapped(self, N: int) -> ca.Function:
-        if N not in self._maps:
-            self._maps[N] = self._f.map(N, "serial")
-        return self._maps[N]
+        self._maps: dict = {}
 
     def evaluate(self, Q: np.ndarray, P: np.ndarray, want: int = WANT_ALL, out: dict | None = None
                  ) -> dict[str, np.ndarray]:
         N, n = Q.shape
         res = output_arrays(N, n, want, out)
-        chunk = 4096
-        for s in range(0, N, chunk):
-            q = Q[s:s + chunk]
-            k = len(q)
-            p = np.broadcast_to(P if P.ndim == 1 else P[s:s + chunk], (k, P.shape[-1]))
-            # mapped functions exist for powers of two only (padded with the last row), so that
-            # batches of ever-changing size (IK's active sets) reuse at most 13 of them
-            m = 1 << (k - 1).bit_length()
-            if m != k:
-                q = np.vstack([q, np.repeat(q[-1:], m - k, axis=0)])
-                p = np.vstack([p, np.repeat(p[-1:], m - k, axis=0)])
-            T, J = self._mapped(m)(q.T, p.T)
-            J = np.asarray(J).reshape(6, m, n).transpose(1, 0, 2)[:k]
+        Pn = np.broadcast_to(P, (N, P.shape[-1]))
+        for s, k, (T, J) in map_rows(self._f, [Q, Pn], self._maps):
             if "T" in res:
-                res["T"][s:s + k] = np.asarray(T).reshape(4, m, 4).transpose(1, 0, 2)[:k]
+                res["T"][s:s + k] = T
             if "J" in res:
                 res["J"][s:s + k] = J
             if want & (WANT_MANIP | WANT_SIGMA):

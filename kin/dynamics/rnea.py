@@ -34,6 +34,7 @@ import numpy as np
 from kin.chain import Chain
 from kin.errors import DynamicsError
 from kin.symbolic import _cs, _rz_tz_cs, _tx_rx
+from kin.vmmap import map_rows
 
 __all__ = ["InverseDynamics", "has_inertia"]
 
@@ -259,19 +260,8 @@ class InverseDynamics:
     def evaluate(self, f: ca.Function, args: list[np.ndarray]) -> np.ndarray:
         """Evaluate ``f`` on rows: each argument (N, k) → (N, *output shape), through ``f.map``
         (serial, sizes rounded up to powers of two so that few mapped functions are built)."""
-        N = len(args[0])
-        rows, cols = f.size_out(0)
-        out = np.empty((N, rows, cols))
+        out = np.empty((len(args[0]), *f.size_out(0)))
         maps = self.__dict__.setdefault("_maps", {})
-        for s in range(0, N, 4096):
-            chunk = [a[s:s + 4096] for a in args]
-            k = len(chunk[0])
-            m = 1 << (k - 1).bit_length()
-            if m != k:
-                chunk = [np.vstack([a, np.repeat(a[-1:], m - k, axis=0)]) for a in chunk]
-            key = (f.name(), m)
-            if key not in maps:
-                maps[key] = f.map(m, "serial")
-            r = np.asarray(maps[key](*(a.T for a in chunk)))
-            out[s:s + k] = r.reshape(rows, m, cols).transpose(1, 0, 2)[:k]
+        for s, k, (r,) in map_rows(f, args, maps):
+            out[s:s + k] = r
         return out
