@@ -239,7 +239,7 @@ def loads_robot(text: str, path: str | None = None) -> Chain:
                 raise r.fail(f"{fld}.max_torque", f"{t:g} {unit} exceeds {MAX_TORQUE:g} {unit}")
             extra["max_torque"] = t
         if "inertial" in jr:
-            extra["inertia"] = _inertial(r, jr["inertial"], f"{fld}.inertial", ls, f"joint {i + 1}")
+            extra["inertia"] = _inertial(r, jr["inertial"], f"{fld}.inertial", ls, lu, f"joint {i + 1}")
         joints.append(Joint(jtype, limits=(lo * var_scale, hi * var_scale), **dh, **extra))  # type: ignore[arg-type]
 
     base = _placement(r, doc.get("base"), "base", ls, as_)
@@ -256,7 +256,7 @@ def loads_robot(text: str, path: str | None = None) -> Chain:
     source = r.string(doc.get("source", ""), "source")
     dyn: dict[str, Any] = {}
     if "payload" in doc:
-        dyn["payload"] = _inertial(r, doc["payload"], "payload", ls, "payload")
+        dyn["payload"] = _inertial(r, doc["payload"], "payload", ls, lu, "payload")
     if "gravity" in doc:
         g = r.vector(doc["gravity"], "gravity", 3)
         if math.hypot(*g) > MAX_GRAVITY:
@@ -273,9 +273,9 @@ def loads_robot(text: str, path: str | None = None) -> Chain:
 
 
 # ---- inertial tables ------------------------------------------------------------------------------
-def _inertial(r: _Reader, raw: Any, fld: str, ls: float, body: str):
+def _inertial(r: _Reader, raw: Any, fld: str, ls: float, lu: str, body: str):
     """A [joints.inertial] or [payload] table → :class:`kin.dynamics.LinkInertia` (SI): mass kg, com
-    in the file length unit, inertia in kg·(file length unit)², motor_inertia, viscous, coulomb SI."""
+    in the file length unit ``lu`` (``ls`` m each), inertia in kg·lu², motor_inertia, viscous, coulomb SI."""
     from kin.dynamics.inertia import MAX_MASS, InertiaError, LinkInertia
 
     r.table(raw, fld, INERTIAL_FIELDS)
@@ -301,11 +301,9 @@ def _inertial(r: _Reader, raw: Any, fld: str, ls: float, body: str):
         return LinkInertia(mass, tuple(x * ls for x in com), tuple(x * s2 for x in inertia), body=body,
                            **extra)  # type: ignore[arg-type]
     except InertiaError as e:
-        raise r.fail(f"{fld}.inertia", f"{inertia} (kg·{_UNIT_WORD.get(ls, 'unit')}², about the centre of mass) "
+        raise r.fail(f"{fld}.inertia", f"{inertia} (kg·{lu}², about the centre of mass) "
                      f"is not a rigid body's: {str(e).split(': ', 1)[-1]}") from None
 
-
-_UNIT_WORD = {1.0: "m", 1e-3: "mm", 0.0254: "in"}
 
 
 # ---- the [geometry] table ------------------------------------------------------------------------
