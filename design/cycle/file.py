@@ -71,7 +71,7 @@ def read_cycle(r, raw: Any, robot, targets, ls: float, as_: float) -> CycleSpec:
     if "tau_max" in raw:
         tau = _per_joint(r, raw["tau_max"], "cycle.tau_max", n, np.ones(n), 0.0, MAX_LIMIT, True)
     else:
-        got = [getattr(j, "max_torque", None) for j in chain.joints]
+        got = [j.max_torque for j in chain.joints]
         tau = np.array([math.nan if v is None else float(v) for v in got])
     torque = r.string(raw.get("torque", "check"), "cycle.torque", TORQUE_MODES)
     if torque == "limit" and np.isnan(tau).any():

@@ -89,7 +89,7 @@ def torque_limits(robot, tau_max, n: int) -> np.ndarray | None:
         raise TimingError(f"robot {robot.name} has {robot.n} joints; the path has {n}")
     robot.dynamics                                     # DynamicsError (one line) without inertial data
     if tau_max is None:
-        known = [getattr(j, "max_torque", None) for j in robot.chain.joints]
+        known = [j.max_torque for j in robot.chain.joints]
         if all(v is None for v in known):
             return None
         return np.array([np.inf if v is None else float(v) for v in known])
