@@ -38,7 +38,7 @@ def evaluate_placed_design(job, robot: kin.Robot, design) -> dict:
     names = list(chain.parameters)
     placed = kin.Robot(chain.with_parameters(dict(zip(names, p))).frozen()) if names else robot
     t = job.task
-    res = place(placed, t.targets, cell=t.cell, region=getattr(t, "region", None), clearance=t.clearance,
+    res = place(placed, t.targets, cell=t.cell, region=t.region, clearance=t.clearance,
                 dexterity=t.dexterity if t.dexterity.kind in ("sigma_min", "manipulability") else None,
                 settings=CODESIGN_SETTINGS, starts=2, candidates=16, seed=job.seed, max_time=120.0, polish=1)
     s = res.study

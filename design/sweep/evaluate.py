@@ -175,8 +175,8 @@ def job_fingerprint(job: SweepJob) -> str:
                  repr(t.dexterity), t.objective, repr(t.min_coverage), repr(t.total_length),
                  repr((job.seeds, job.samples, job.seed, tuple(job.metrics))),
                  getattr(job.evaluate, "__qualname__", "default"),
-                 _cell_fingerprint(t.cell), repr(t.clearance), repr(getattr(t, "region", None)),
-                 _cycle_fingerprint(getattr(t, "cycle", None))):
+                 _cell_fingerprint(t.cell), repr(t.clearance), repr(t.region),
+                 _cycle_fingerprint(t.cycle)):
         h.update(part.encode())
         h.update(b"\0")
     for arr in (t.targets.positions, t.targets.axes, t.targets.rotations):
