@@ -30,7 +30,7 @@ import sys
 import numpy as np
 
 from planning.timing import time_parameterize
-from studies.benchmarks.bench_timing import _median_time, fanuc_path
+from studies.benchmarks.bench_timing import _median_time, fanuc_path, overshoot
 from studies.benchmarks.driver import repeats_main
 
 V = np.array([2.5, 2.5, 3.0, 5.0, 5.0, 7.0])
@@ -40,10 +40,6 @@ PATHS = {"bench (0.3–1.5 cycles)": (0.3, 1.5), "rougher (1–3 cycles)": (1.0,
 DENSE = 20000
 REPEATS = 9
 QUICK_REPEATS = 3
-
-
-def ratios(qd: np.ndarray, qdd: np.ndarray) -> tuple[float, float]:
-    return float(np.max(np.abs(qd) / V)), float(np.max(np.abs(qdd) / A))
 
 
 def toppra_typical(W: np.ndarray):
@@ -76,13 +72,14 @@ def run(quick: bool = False) -> dict:
         rec = {}
         for shape in ("spline", "blend"):
             t, tr = _median_time(lambda: time_parameterize(W, V, A, shape=shape), repeats)
-            vr, ar = ratios(*tr.sample(np.linspace(0, tr.duration, DENSE))[1:])
+            ov = overshoot(*tr.sample(np.linspace(0, tr.duration, DENSE))[1:], V, A)
             rec[shape] = {"time_ms": 1e3 * t, "duration_s": tr.duration, "grid": len(tr.grid),
-                          "velocity_ratio": vr, "acceleration_ratio": ar}
+                          "velocity_ratio": ov["velocity_ratio"], "acceleration_ratio": ov["acceleration_ratio"]}
         if have:
             t, (jt, grid) = _median_time(lambda: toppra_typical(W), repeats)
             ts = np.linspace(0, jt.duration, DENSE)
-            vr, ar = ratios(jt(ts, 1), jt(ts, 2))
+            ov = overshoot(jt(ts, 1), jt(ts, 2), V, A)
+            vr, ar = ov["velocity_ratio"], ov["acceleration_ratio"]
             d = float(jt.duration)
             rec["toppra"] = {"time_ms": 1e3 * t, "duration_s": d, "grid": grid, "velocity_ratio": vr,
                              "acceleration_ratio": ar, "duration_holding_limits_s": d * max(1.0, vr, ar ** 0.5)}
