@@ -1,8 +1,12 @@
 """Work cells: the obstacles around a robot, where it stands, the tool it carries and the pairs
 never checked, read from a TOML cell file (docs/cells.md).
 
-* :mod:`planning.cell.model` — :class:`Cell`, :meth:`Cell.resolve` → :class:`ResolvedCell`;
+* :mod:`planning.cell.model` — :class:`Cell`, :meth:`Cell.resolve` → :class:`ResolvedCell`; names
+  that could be a body or an obstacle (``body:`` / ``obstacle:``);
 * :mod:`planning.cell.reader` — :func:`load_cell`, :func:`parse_cell` (every field checked);
+* :mod:`planning.cell.fields` — checked access to one table's fields, units converted;
+* :mod:`planning.cell.obstacles` — the obstacle types (primitives, cones, meshes, point clouds,
+  compounds of several parts) as :class:`kin.geometry.Obstacle`;
 * :mod:`planning.cell.mesh` — STL/OBJ/PLY meshes, bounded before parsing;
 * :mod:`planning.cell.points` — PLY/CSV point clouds, bounded before parsing;
 * :mod:`planning.cell.enclose` — spheres that provably enclose meshes and point clouds;

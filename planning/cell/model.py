@@ -2,10 +2,14 @@
 never checked — and :meth:`Cell.resolve`, which ties a cell to one robot.
 
 A :class:`Cell` knows no robot: it names bodies (``"base"``, ``"tool"``, ``"link 3"``, a joint's
-name) as strings.  :meth:`Cell.resolve` looks the names up in a robot's chain and returns a
-:class:`ResolvedCell`: the obstacles with their ``ignore`` body sets, the robot's geometry with the
-tool's capsules on body n + 1 and the extra allowed pairs, the base placement, and the body pairs
-checked for self-collision — everything :class:`kin.geometry.ClearanceModel` takes.
+name) as strings.  Obstacles may have any name, a body's too (MoveIt scenes have objects called
+``base``): where a cell file could mean either, it says which with ``body:`` or ``obstacle:``
+(:func:`split_reference`), and messages name obstacles as ``obstacle 'base'``.
+
+:meth:`Cell.resolve` looks the names up in a robot's chain and returns a :class:`ResolvedCell`: the
+obstacles with their ``ignore`` body sets, the robot's geometry with the tool's capsules on body
+n + 1 and the extra allowed pairs, the base placement, and the body pairs checked for self-collision —
+everything :class:`kin.geometry.ClearanceModel` takes.
 
 Everything is SI (m) in the *cell frame* (the world); the robot's DH frame 0 sits at
 ``cell.base · chain.base``.
@@ -22,11 +26,14 @@ from kin.geometry import LinkCapsule, Obstacle, RobotGeometry, body_names, defau
 from kin.transforms import rigidity_defect
 from planning.errors import CellError
 
-__all__ = ["Cell", "ResolvedCell", "TOOL_BODY", "body_lookup", "is_body_like"]
+__all__ = ["Cell", "ResolvedCell", "TOOL_BODY", "BODY", "OBSTACLE", "body_lookup", "is_body_like", "split_reference"]
 
 #: the body of a cell's tool capsules before :meth:`Cell.resolve` (then: n + 1)
 TOOL_BODY = -1
 _LINK = re.compile(r"^link\s*(\d+)$")
+#: the qualifiers of a name in an ``ignore`` list or an allowed pair
+BODY, OBSTACLE = "body", "obstacle"
+_QUALIFIED = re.compile(r"^(body|obstacle)\s*:\s*(.*)$", re.I | re.S)
 
 
 def _key(name: str) -> str:
@@ -37,6 +44,17 @@ def is_body_like(name: str) -> bool:
     """True for the names every robot's bodies have: ``base``, ``tool``, ``link k`` (any case)."""
     k = _key(name)
     return k in ("base", "tool") or bool(_LINK.match(k))
+
+
+def split_reference(ref: str) -> tuple[str | None, str]:
+    """A name as a cell file refers to it → (:data:`BODY`, :data:`OBSTACLE` or None, the name):
+    ``"obstacle:base"`` → ("obstacle", "base"), ``"body: link 3"`` → ("body", "link 3"), ``"table"`` →
+    (None, "table").  One qualifier is taken off (any case, spaces around the colon ignored); the name
+    is spaced as obstacle names are (runs of white space → one space, none at the ends)."""
+    m = _QUALIFIED.match(" ".join(ref.split()))
+    if m is None:
+        return None, " ".join(ref.split())
+    return m.group(1).lower(), m.group(2)
 
 
 def body_lookup(chain) -> dict[str, int]:
@@ -66,7 +84,9 @@ class Cell:
     placement sits in the cell; ``tool``: capsules of the tool in the tool frame, body
     :data:`TOOL_BODY` until resolved; ``body_pairs``: pairs of body names never checked against each
     other; ``obstacle_pairs``: (obstacle name, body name) pairs never checked; ``notes``: a line per
-    obstacle saying where its spheres come from (meshes, point clouds), for reports; ``path``: the
+    obstacle saying where its spheres come from (meshes, point clouds), for reports; ``unqualified``:
+    the obstacle names an allowed pair of the file named without ``obstacle:`` (:meth:`resolve` refuses
+    them when the robot has a body of that name: the pair could mean either); ``path``: the
     file read, if any; ``length_unit``: the file's (values here are SI); ``source``: what the cell was
     read from when not a file (for messages); ``meshes``: the triangles (k, 3, 3) of each mesh obstacle
     by name, placed in the cell (m, float32, read-only) — what its spheres enclose, kept for drawing.
@@ -79,6 +99,7 @@ class Cell:
     body_pairs: tuple[tuple[str, str], ...] = ()
     obstacle_pairs: tuple[tuple[str, str], ...] = ()
     notes: dict[str, str] = field(default_factory=dict)
+    unqualified: frozenset[str] = frozenset()
     path: Path | None = None
     length_unit: str = "m"
     source: str = ""
@@ -91,6 +112,7 @@ class Cell:
         object.__setattr__(self, "body_pairs", tuple((str(a), str(b)) for a, b in self.body_pairs))
         object.__setattr__(self, "obstacle_pairs", tuple((str(a), str(b)) for a, b in self.obstacle_pairs))
         object.__setattr__(self, "notes", dict(self.notes))
+        object.__setattr__(self, "unqualified", frozenset(self.unqualified))
         meshes = {}
         for ob_name, T in self.meshes.items():
             T = np.array(T, dtype=np.float32).reshape(-1, 3, 3)
@@ -112,6 +134,9 @@ class Cell:
         for ob_name, _ in self.obstacle_pairs:
             if ob_name not in seen:
                 raise CellError(f"{where}: allowed pair names obstacle {ob_name!r}, which the cell does not have")
+        for ob_name in self.unqualified:
+            if ob_name not in seen:
+                raise CellError(f"{where}: an allowed pair names obstacle {ob_name!r}, which the cell does not have")
         for ob_name in self.meshes:
             if ob_name not in seen:
                 raise CellError(f"{where}: a mesh is given for obstacle {ob_name!r}, which the cell does not have")
@@ -150,9 +175,9 @@ class Cell:
         out = [f"cell {self.name!r}: {len(self.obstacles)} obstacles, {self.n_primitives} primitives, "
                f"tool {len(self.tool)} shapes"]
         for ob in self.obstacles:
-            line = f"  {ob.name}: {ob.kind or 'obstacle'}, {ob.n_primitives} primitive(s)"
+            line = f"  obstacle {ob.name!r}: {ob.kind or 'obstacle'}, {ob.n_primitives} primitive(s)"
             if ob.over_estimate >= 5e-5:
-                line += f", spheres stand out ≤ {ob.over_estimate * 1000:.1f} mm"
+                line += f", its enclosure stands out ≤ {ob.over_estimate * 1000:.1f} mm"
             if ob.name in self.notes:
                 line += f" ({self.notes[ob.name]})"
             if touch.get(ob.name):
@@ -173,8 +198,8 @@ class Cell:
 
         ``geometry``: the robot's capsules (default: the robot's own, :attr:`kin.Robot.geometry`, or
         the default along the DH offsets).  Raises :class:`CellError` for a body name the robot does
-        not have (listing the valid ones), an obstacle named like one of its bodies, or a pair of one
-        body with itself.
+        not have (listing the valid ones), a pair of one body with itself, or an allowed pair that names,
+        without ``obstacle:`` or ``body:``, an obstacle that has the name of one of its bodies.
         """
         chain = getattr(robot, "chain", robot)
         if geometry is None:
@@ -192,10 +217,12 @@ class Cell:
                                 f"{_valid_bodies(chain)}")
             return k
 
+        for ob_name in sorted(self.unqualified):
+            if _key(ob_name) in lookup:
+                raise CellError(f"{where}: [allow]: {ob_name!r} is both obstacle {ob_name!r} and the body "
+                                f"{body_names(chain)[lookup[_key(ob_name)]]} of {chain.name}; write "
+                                f"'obstacle:{ob_name}' or 'body:{ob_name}'")
         for ob in self.obstacles:
-            if _key(ob.name) in lookup:
-                raise CellError(f"{where}: obstacle {ob.name!r} has the name of a body of {chain.name} "
-                                f"(link {lookup[_key(ob.name)]}); rename the obstacle")
             bad = sorted(b for b in ob.ignore if not 0 <= b <= n + 1)
             if bad:
                 raise CellError(f"{where}: obstacle {ob.name!r}: ignore holds body {bad[0]}; {chain.name} has "
@@ -253,5 +280,5 @@ class ResolvedCell:
         out.append(f"  self-collision pairs checked: {len(self.self_pairs)}; body–obstacle pairs checked: "
                    f"{len(self.obstacle_pairs())}")
         if self.cell.over_estimate >= 5e-5:
-            out.append(f"  obstacle spheres stand out by at most {self.cell.over_estimate * 1000:.1f} mm")
+            out.append(f"  obstacle enclosures stand out by at most {self.cell.over_estimate * 1000:.1f} mm")
         return out
