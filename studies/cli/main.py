@@ -26,6 +26,7 @@ from studies.cli import (
     place,
     plan,
     reach,
+    scene,
     singular,
     study,
     sweep,
@@ -36,7 +37,7 @@ from studies.cli import (
 from studies.cli.common import EXIT_OK, EXIT_USAGE
 
 #: the command groups, in the order ``rmt --help`` lists their commands
-GROUPS = (kinematics, singular, plan, timing, cell, toolpath, follow, study, design, reach, place, sweep, urdf)
+GROUPS = (kinematics, singular, plan, timing, cell, scene, toolpath, follow, study, design, reach, place, sweep, urdf)
 
 
 class UsageError(Exception):

@@ -166,3 +166,56 @@ def test_study_files(text, as_json):
     robot = (Path(__file__).resolve().parents[2] / "kin" / "robots" / "planar_2r.toml").read_text()
     _run({"s.toml": text, "r.toml": robot}, ["study", "s.toml", "--out", "out", "--quiet"]
          + (["--json"] if as_json else []), outputs=("out",))
+
+
+# ---- planning scenes (rmt import-scene) ------------------------------------------------------------
+SHAPE_DIMS = {"box": 3, "sphere": 1, "cylinder": 2, "cone": 2, "1": 3, "3": 2}
+
+
+@st.composite
+def scene_yaml(draw) -> str:
+    objects = []
+    for k in range(draw(st.integers(0, 4))):
+        kind = draw(mostly(st.sampled_from(sorted(SHAPE_DIMS)), st.sampled_from(["torus", "5", "true", "plane"]), 8))
+        n = draw(mostly(st.just(SHAPE_DIMS.get(kind, 2)), st.integers(0, 4), 10))
+        dims = ", ".join(draw(mostly(st.floats(0.01, 1).map(repr), number_text(-1, 1), 6)) for _ in range(n))
+        pos = ", ".join(draw(number_text(-2, 2)) for _ in range(3))
+        quat = draw(mostly(st.sampled_from(["[0, 0, 0, 1]", "[0, 0, 0.7071068, 0.7071068]", "[0, 0, 0, 0]"]),
+                           st.sampled_from(["[0, 0, 0, 2]", "[1, 2]", "[.nan, 0, 0, 1]", "{x: 1}", "7"]), 6))
+        name = draw(mostly(st.sampled_from(["base", "tool", "link 3", "table", f"o{k}"]),
+                           st.sampled_from(['""', '"a\\x07"', "[1]", "o0", "true"]), 8))
+        extra = draw(mostly(st.just(""), st.sampled_from([", operation: remove", ", header: {frame_id: tool0}",
+                                                          ", planes: [{coef: [0, 0, 1, 0]}]", ", pose: 3"]), 8))
+        objects.append(f"    - {{id: {name}, primitives: [{{type: {kind}, dimensions: [{dims}]}}], "
+                       f"primitive_poses: [{{position: [{pos}], orientation: {quat}}}]{extra}}}")
+    head = draw(mostly(st.just(""), st.sampled_from(["a: &a [1]\nb: *a\n", "robot_state: 3\n", "name: 3\n",
+                                                     "start_state: {}\n", "{"]), 8))
+    body = "world:\n  collision_objects:\n" + "\n".join(objects) + "\n" if objects else "world: {}\n"
+    return head + body
+
+
+@st.composite
+def scene_text(draw) -> str:
+    lines = [draw(st.sampled_from(["cell", "(noname)", ""]))]
+    for k in range(draw(st.integers(0, 3))):
+        kind, n = draw(mostly(st.sampled_from([("box", 3), ("sphere", 1), ("cylinder", 2), ("cone", 2)]),
+                              st.sampled_from([("plane", 4), ("torus", 1), ("mesh", 2)]), 8))
+        lines += [f"* {draw(st.sampled_from(['base', 'a b', f'o{k}', 'o0']))}", "0 0 0", "0 0 0 1",
+                  draw(mostly(st.just("1"), st.sampled_from(["0", "-1", "x", "1001"]), 8)), kind,
+                  " ".join(draw(mostly(st.floats(0.01, 1).map(repr), number_text(-1, 1), 6)) for _ in range(n)),
+                  " ".join(draw(number_text(-2, 2)) for _ in range(3)),
+                  draw(mostly(st.just("0 0 0 1"), st.sampled_from(["0 0 0 3", "0 0", "nan 0 0 1"]), 6))]
+        if draw(st.booleans()):
+            lines.append("0 0 0 0")
+        lines.append(draw(mostly(st.just("0"), st.sampled_from(["2", "x"]), 8)))
+    if draw(mostly(st.just(True), st.just(False), 8)):
+        lines.append(".")
+    return "\n".join(lines) + "\n"
+
+
+@FUZZ
+@given(st.one_of(scene_yaml().map(lambda t: ("s.yaml", t)), scene_text().map(lambda t: ("s.scene", t))),
+       st.booleans())
+def test_planning_scenes(case, as_json):
+    name, text = case
+    _run({name: text}, ["import-scene", name, "--out", "c.toml"] + (["--json"] if as_json else []), outputs=("c.toml",))
