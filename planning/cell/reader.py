@@ -127,17 +127,20 @@ def _ignore(where: str, k: int, ob_name: str, refs: list[str], names: dict[str, 
     return out
 
 
-def _pair_side(where: str, k: int, ref: str, names: dict[str, int]) -> tuple[bool, str, bool]:
-    """(is an obstacle, name, named without a qualifier) of one name of allowed pair ``k``."""
+def _pair_side(where: str, k: int, ref: str, names: dict[str, int], body_like: dict[str, str]
+               ) -> tuple[bool, str, bool]:
+    """(is an obstacle, name, named without a qualifier) of one name of allowed pair ``k``;
+    ``body_like``: the obstacles named like every robot's bodies, by their names as bodies are matched
+    (case and spacing ignored)."""
     qual, name = split_reference(ref)
     if qual == OBSTACLE:
         if name not in names:
             raise CellError(f"{where}: [allow]: pair {k}: {ref!r}: the cell has no obstacle {name!r}")
         return True, name, False
+    if qual is None and is_body_like(name) and name.casefold() in body_like:
+        raise CellError(f"{where}: [allow]: pair {k}: {ref!r} is both obstacle {body_like[name.casefold()]!r} and a "
+                        f"robot body; write 'obstacle:{body_like[name.casefold()]}' or 'body:{name}'")
     if qual is None and name in names:
-        if is_body_like(name):
-            raise CellError(f"{where}: [allow]: pair {k}: {ref!r} is both obstacle {name!r} and a robot body; "
-                            f"write 'obstacle:{name}' or 'body:{name}'")
         return True, name, True
     return False, name, False
 
@@ -224,10 +227,11 @@ def parse_cell(text: str, where: str = "cell", base_dir: str | Path | None = Non
     if len(raw_pairs) > MAX_PAIRS:
         raise CellError(f"{where}: [allow]: {len(raw_pairs)} pairs; at most {MAX_PAIRS}")
     body_pairs, unqualified = [], set()
+    body_like = {ob_name.casefold(): ob_name for ob_name in names if is_body_like(ob_name)}
     for k, p in enumerate(raw_pairs, 1):
         if not (isinstance(p, list) and len(p) == 2 and all(isinstance(x, str) and x.strip() for x in p)):
             raise CellError(f"{where}: [allow]: pair {k} must be two names [\"tool\", \"part\"], not {p!r}")
-        (a_ob, a, a_loose), (b_ob, b, b_loose) = (_pair_side(where, k, x, names) for x in p)
+        (a_ob, a, a_loose), (b_ob, b, b_loose) = (_pair_side(where, k, x, names, body_like) for x in p)
         if a_ob and b_ob:
             raise CellError(f"{where}: [allow]: pair {k} [{a!r}, {b!r}] names two obstacles; obstacles are never "
                             f"checked against each other")

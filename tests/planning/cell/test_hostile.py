@@ -62,6 +62,8 @@ def refused(text: str, *words: str, base_dir=None, seconds: float = 2.0) -> str:
      ["[allow]: pair 1", "'tool' is both obstacle 'tool' and a robot body", "'obstacle:tool' or 'body:tool'"]),
     ('[[obstacle]]\nname = "Link 3"\ntype = "sphere"\nradius = 1\n[allow]\npairs = [["Link 3", "tool"]]\n',
      ["'Link 3' is both obstacle 'Link 3' and a robot body"]),
+    ('[[obstacle]]\nname = "base"\ntype = "sphere"\nradius = 1\n[allow]\npairs = [["BASE", "tool"]]\n',
+     ["pair 1: 'BASE' is both obstacle 'base' and a robot body; write 'obstacle:base' or 'body:BASE'"]),
     (BOX + '[allow]\npairs = [["tool", "obstacle:c"]]\n', ["pair 1", "'obstacle:c'", "the cell has no obstacle 'c'"]),
     (BOX + '[[obstacle]]\nname = "c"\ntype = "sphere"\nradius = 1\nignore = ["obstacle:b"]\n',
      ["obstacle 2 ('c')", "ignore", "'obstacle:b' is an obstacle"]),
