@@ -140,13 +140,17 @@ def _label(i: int, f: float) -> str:
 def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float | None = None,
                step_angle: float = DEFAULT_STEP_ANGLE, step_length: float = DEFAULT_STEP_LENGTH,
                max_step: float | None = None, limit_tol: float = 1e-9, chunk: int = 200_000,
-               prove: bool = True, world=None) -> PathCheck:
+               prove: bool = True, world=None, dense: bool = True) -> PathCheck:
     """Check a joint path (M, n), SI units, densely — and the windows by proof unless ``prove`` is
     False.  See the module docstring.
 
     ``max_step``: largest allowed joint change between consecutive rows (rad or m; None: not checked,
     only reported).  ``sigma_min``: a floor on σ_min of the task Jacobian along the whole path.
     ``world``: a :class:`planning.collision.CollisionWorld` to be clear of (by its margin).
+    ``dense=False`` (with ``prove``): the proofs decide alone — windows, the σ_min floor and collisions
+    proven segment by segment, limits at the rows (the limit box is convex) — and the dense states are
+    not evaluated: ``min_sigma`` and ``min_clearance`` are then the values at the rows, and the
+    collision proof's lower bound is not measured.  What the planner returns its paths with.
     """
     chain = robot.chain
     P = np.asarray(path, dtype=float)
@@ -185,7 +189,10 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
         i, j = np.unravel_index(np.argmax(steps > max_step), steps.shape)
         note(Violation(int(i), "continuity", f"joint {j + 1} moves {steps[i, j]:.6g} between rows {i} and {i + 1}; "
                                              f"allowed {max_step:.6g}"))
-    counts = _counts(P, rev, step_angle, step_length) if len(P) > 1 else np.zeros(0, np.int64)
+    if not dense and prove:
+        counts = np.ones(max(len(P) - 1, 0), np.int64)      # the rows only: no state between them
+    else:
+        counts = _counts(P, rev, step_angle, step_length) if len(P) > 1 else np.zeros(0, np.int64)
     total = int(counts.sum()) + 1
     lo, hi = chain.lower - limit_tol, chain.upper + limit_tol
     found: dict[str, Violation] = {}
@@ -254,13 +261,17 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
     if world is not None:
         collision_check = "sampled"
         if prove:
-            cproof = certify_collision(world, P)
+            cproof = certify_collision(world, P, bound=dense)
             v = cproof.violation
             if v is not None and ("collision" not in found or v.segment < found["collision"].index):
                 found["collision"] = Violation(v.segment, "collision", f"in collision: {v.text} "
                                                f"{_label(v.segment, v.t)} (proven)")
             collision_check = "proven" if cproof.proven or v is not None else "sampled"
-            bound = cproof.bound if cproof.proven else None
+            bound = cproof.bound if cproof.proven and math.isfinite(cproof.bound) else None
+    if not dense and prove and "sampled" in (windows_check, sigma_check, collision_check):
+        # a proof left something open: the dense states decide after all
+        return check_path(robot, P, windows, sigma_min, step_angle, step_length, max_step, limit_tol, chunk, prove,
+                          world, dense=True)
     for kind in ("limits", "window", "sigma_min", "collision"):
         if kind in found:
             note(found[kind])

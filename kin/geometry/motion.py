@@ -25,7 +25,7 @@ import numpy as np
 
 from kin.geometry.frames import dh_rows
 
-__all__ = ["reach_radii", "row_lengths"]
+__all__ = ["capsule_radii", "curvature_bound", "reach_radii", "row_lengths"]
 
 
 def row_lengths(chain) -> np.ndarray:
@@ -35,6 +35,64 @@ def row_lengths(chain) -> np.ndarray:
         dmax = max(abs(d + lo), abs(d + hi)) if pris else abs(d)
         out.append(math.hypot(a, dmax))
     return np.array(out)
+
+
+def _walks(chain) -> np.ndarray:
+    """W (n, n + 2): the walk of :func:`reach_radii` from joint j's axis to body k's frame origin (m;
+    the tool's includes the tool placement), before a body's own reach is added."""
+    n = chain.n
+    L = row_lengths(chain)
+    tool_len = float(np.linalg.norm(chain.tool.matrix[:3, 3]))
+    modified = chain.convention == "modified"
+    W = np.zeros((n, n + 2))
+    for j in range(1, n + 1):
+        for k in range(j, n + 2):
+            last = min(k, n)
+            first = j + 1 if modified else j
+            walk = float(L[first - 1:last].sum()) if last >= first else 0.0
+            W[j - 1, k] = walk + (tool_len if k == n + 1 else 0.0)
+    return W
+
+
+def capsule_radii(chain, geometry) -> np.ndarray:
+    """R (C, n): the bound of :func:`reach_radii` for each capsule of ``geometry`` on its own (its
+    own reach instead of its body's largest): R[c, j] bounds |∂p/∂q_j| for every point p of capsule
+    c's segment at every configuration (m/rad for a revolute joint, 1 for a prismatic one, 0 where joint
+    j does not move the capsule's body)."""
+    n = chain.n
+    W = _walks(chain)
+    rev = chain.revolute_mask
+    R = np.zeros((len(geometry.capsules), n))
+    for c, cap in enumerate(geometry.capsules):
+        k = cap.body
+        for j in range(1, min(k, n + 1) + 1):
+            if j > n:
+                break
+            R[c, j - 1] = (W[j - 1, k] + cap.reach) if rev[j - 1] else 1.0
+    return R
+
+
+def curvature_bound(R: np.ndarray, dq: np.ndarray, revolute: np.ndarray) -> np.ndarray:
+    """M (C,): a bound on |d²p/dt²| (m) for every point p of each capsule along the straight joint motion
+    q(t) = a + t·dq, t ∈ [0, 1], given the capsules' :func:`capsule_radii` R (C, n).
+
+    With v_j = ∂p/∂q_j (z_j × (p − o_j) for a revolute joint, z_j for a prismatic one), p' = Σ_j dq_j v_j
+    and p'' = Σ_j dq_j v_j'.  Axis z_j is turned by the revolute joints before j only, so |z_j'| ≤ W_j =
+    Σ_{l<j, revolute} |dq_l|; the point o_j moves with those joints, so |p' − o_j'| ≤ W_j |p − o_j| +
+    Σ_{l≥j} |dq_l| R_l; and |p − o_j| ≤ R_j.  Hence, over the joints j that move p,
+
+        M = Σ_{j revolute} |dq_j| (2 W_j R_j + Σ_{l≥j} |dq_l| R_l) + Σ_{j prismatic} |dq_j| W_j.
+
+    A point then stays within (t − t0)(t1 − t)/2 · M ≤ (t1 − t0)²/8 · M of the chord between its
+    positions at t0 and t1 — what :mod:`planning.motion` proves motions with."""
+    R = np.atleast_2d(np.asarray(R, dtype=float))
+    A = np.abs(np.asarray(dq, dtype=float))
+    rev = np.asarray(revolute, dtype=bool)
+    W = np.concatenate([[0.0], np.cumsum(np.where(rev, A, 0.0))[:-1]])      # Σ_{l<j} revolute |dq_l|
+    moves = R > 0
+    tail = np.cumsum((A * R)[:, ::-1], axis=1)[:, ::-1]                     # Σ_{l≥j} |dq_l| R_l
+    per_joint = np.where(rev, 2 * W * R + tail, W) * A
+    return np.where(moves, per_joint, 0.0).sum(axis=1)
 
 
 def reach_radii(chain, geometry) -> np.ndarray:
@@ -47,23 +105,13 @@ def reach_radii(chain, geometry) -> np.ndarray:
     The tool (body n + 1) is frame n plus the tool placement; its capsules are in the tool frame.
     """
     n = chain.n
-    L = row_lengths(chain)
-    tool_len = float(np.linalg.norm(chain.tool.matrix[:3, 3]))
+    W = _walks(chain)
     reach = np.zeros(n + 2)           # |p_k| bound per body
     for c in geometry.capsules:
         reach[c.body] = max(reach[c.body], c.reach)
-    modified = chain.convention == "modified"
-    R = np.zeros((n, n + 2))
     rev = chain.revolute_mask
+    R = np.zeros((n, n + 2))
     for j in range(1, n + 1):
         for k in range(j, n + 2):
-            if not rev[j - 1]:
-                R[j - 1, k] = 1.0
-                continue
-            last = min(k, n)
-            first = j + 1 if modified else j
-            walk = float(L[first - 1:last].sum()) if last >= first else 0.0
-            if k == n + 1:
-                walk += tool_len
-            R[j - 1, k] = walk + reach[k]
+            R[j - 1, k] = W[j - 1, k] + reach[k] if rev[j - 1] else 1.0
     return R

@@ -75,7 +75,7 @@ def library_dir() -> Path:
 
 def build(kernel: str, source: Path, header: str = "", *, flags: Sequence[str] = (), key: Sequence[str] = (),
           arch: str | None = None, compiler: str | None = None, directory: Path | None = None,
-          what: str | None = None) -> Library:
+          what: str | None = None, include_dirs: Sequence[Path] = ()) -> Library:
     """The library of ``source`` (a C file) specialised by ``header`` (the text of ``rmt_generated.h``).
 
     ``kernel``: the file name's readable part (any text; letters, digits and ``_`` kept);
@@ -83,7 +83,9 @@ def build(kernel: str, source: Path, header: str = "", *, flags: Sequence[str] =
     interpreter's version for an extension module); ``arch``: ``native`` or ``portable`` (default
     ``RMTKIT_ARCH``), native falling back to portable when the compiler refuses it; ``compiler``
     (default :func:`~kin.native.settings.find_compiler`); ``directory`` (default :func:`library_dir`);
-    ``what``: how errors name the kernel.
+    ``what``: how errors name the kernel; ``include_dirs``: further directories the source includes
+    from (their ``.c`` and ``.h`` files are part of the library's key: the motion checker includes the
+    clearance kernel).
     """
     compiler = compiler or find_compiler()
     what = what or kernel
@@ -94,7 +96,7 @@ def build(kernel: str, source: Path, header: str = "", *, flags: Sequence[str] =
     arch = arch or requested_arch()
     if arch not in ARCH_FLAGS:
         raise ArgumentError(f"arch {arch!r} unknown; allowed: {', '.join(ARCH_FLAGS)}")
-    args = (kernel, source, header, tuple(flags), tuple(key))
+    args = (kernel, source, header, tuple(flags), tuple(key), tuple(Path(d) for d in include_dirs))
     if arch != "portable":
         try:
             return _build_one(*args, arch, compiler, directory, what)
@@ -107,19 +109,22 @@ class _CompilerFailedError(CompileError):
     """The compiler ran and refused (the only failure the portable build is tried after)."""
 
 
-def _sources(source: Path) -> list[str]:
-    """The text of ``source`` and of every header it may include (shared and beside it), named."""
+def _sources(source: Path, include_dirs: Sequence[Path] = ()) -> list[str]:
+    """The text of ``source`` and of every file it may include (shared headers, headers beside it, the
+    sources and headers of ``include_dirs``), named."""
     try:
         files = [source, *sorted(INCLUDE_DIR.glob("*.h")), *sorted(source.parent.glob("*.h"))]
+        for d in include_dirs:
+            files += [*sorted(Path(d).glob("*.h")), *sorted(Path(d).glob("*.c"))]
         return [f"{f.name}\n{f.read_text()}" for f in files]
     except OSError as e:
         raise CompileError(f"cannot read the C source {source}: {e.strerror or e}") from None
 
 
-def library_key(source: Path, header: str, flags: Sequence[str], key: Sequence[str], arch: str, compiler: str
-                ) -> str:
+def library_key(source: Path, header: str, flags: Sequence[str], key: Sequence[str], arch: str, compiler: str,
+                include_dirs: Sequence[Path] = ()) -> str:
     """The hash that names a library (see the module docstring)."""
-    parts = [*_sources(source), header, compiler_identity(compiler), " ".join([*COMMON_FLAGS, *ARCH_FLAGS[arch],
+    parts = [*_sources(source, include_dirs), header, compiler_identity(compiler), " ".join([*COMMON_FLAGS, *ARCH_FLAGS[arch],
              *flags]), sys.platform, cpu_fingerprint() if arch == "native" else platform.machine(), *key]
     return hashlib.sha256("\0".join(parts).encode()).hexdigest()[:20]
 
@@ -134,10 +139,10 @@ def _refuse_irregular(path: Path) -> None:
                            "or set RMTKIT_CACHE elsewhere)")
 
 
-def _build_one(kernel: str, source: Path, header: str, flags: tuple[str, ...], key: tuple[str, ...], arch: str,
-               compiler: str, directory: Path, what: str) -> Library:
+def _build_one(kernel: str, source: Path, header: str, flags: tuple[str, ...], key: tuple[str, ...],
+               include_dirs: tuple[Path, ...], arch: str, compiler: str, directory: Path, what: str) -> Library:
     label = re.sub(r"[^A-Za-z0-9_]", "_", kernel)[:48]
-    path = directory / f"{label}_{arch}-{library_key(source, header, flags, key, arch, compiler)}.so"
+    path = directory / f"{label}_{arch}-{library_key(source, header, flags, key, arch, compiler, include_dirs)}.so"
     if path.is_file():
         return Library(path, arch, True)
     _refuse_irregular(path)
@@ -151,7 +156,8 @@ def _build_one(kernel: str, source: Path, header: str, flags: tuple[str, ...], k
                 (Path(tmp) / GENERATED_HEADER).write_text(header)
                 so = Path(tmp) / "lib.so"
                 cmd = [compiler, *COMMON_FLAGS, *ARCH_FLAGS[arch], *flags, f"-DRMT_LIBRARY_NAME={_module_name(path)}",
-                       f"-I{tmp}", f"-I{source.parent}", f"-I{INCLUDE_DIR}", str(source), "-o", str(so), "-lm"]
+                       f"-I{tmp}", f"-I{source.parent}", *(f"-I{d}" for d in include_dirs), f"-I{INCLUDE_DIR}",
+                       str(source), "-o", str(so), "-lm"]
                 _run(cmd, compiler, arch, what)
                 _refuse_irregular(path)
                 os.replace(so, path)  # atomic: a concurrent reader sees no file or the whole new one

@@ -26,7 +26,8 @@ def load_extension(path: Path, name: str):
     return _EXTENSIONS[key]
 
 
-def build_with_extension(name: str, source: Path, header: str, *, arch, compiler, directory, what: str):
+def build_with_extension(name: str, source: Path, header: str, *, arch, compiler, directory, what: str,
+                         include_dirs=()):
     """Build ``source`` with ``header`` as a CPython extension module (the single-call entry), or, when
     that does not compile (no Python or numpy headers), as a plain library: the
     :class:`~kin.native.builder.Library` and its extension module (None for a plain one).  An extension
@@ -43,7 +44,7 @@ def build_with_extension(name: str, source: Path, header: str, *, arch, compiler
         abi = (sys.version, np.__version__) if extra else ()
         try:
             lib = build(name, source, header, flags=extra, key=abi, arch=arch, compiler=compiler,
-                        directory=directory, what=what)
+                        directory=directory, what=what, include_dirs=include_dirs)
         except CompileError:
             if k == len(variants) - 1:
                 raise

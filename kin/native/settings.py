@@ -33,11 +33,16 @@ def cache_dir() -> Path:
 
 
 def find_compiler() -> str | None:
-    """The C compiler to use: ``$RMTKIT_CC`` (``none`` disables compiling), else ``$CC``, cc, gcc, clang."""
-    env = os.environ.get("RMTKIT_CC")
+    """The C compiler to use: ``$RMTKIT_CC`` (``none`` disables compiling), else ``$CC``, cc, gcc, clang.
+    Looked up once per value of those variables and of ``PATH`` (the planner asks on every call)."""
+    return _find_compiler(os.environ.get("RMTKIT_CC"), os.environ.get("CC"), os.environ.get("PATH"))
+
+
+@lru_cache(maxsize=16)
+def _find_compiler(env: str | None, cc: str | None, path: str | None) -> str | None:
     if env is not None:
         return None if env.strip().lower() in ("", "none", "0", "false") else shutil.which(env)
-    for cand in (os.environ.get("CC"), "cc", "gcc", "clang"):
+    for cand in (cc, "cc", "gcc", "clang"):
         if cand and shutil.which(cand):
             return shutil.which(cand)
     return None

@@ -18,6 +18,13 @@ midpoint evaluated); a state whose clearance is ≤ m is a violation.  Pieces st
 The pieces of every segment of a path are processed together, one batch of the clearance kernel
 per level.  The proof also gives a proven lower bound on the clearance along the whole path,
 min over pieces and bodies of (c0 + c1 − D)/2.
+
+Where the native motion checker is available (a C compiler: almost always), the proof is its proof
+instead — the one the planner's motion validator gives every edge (:mod:`planning.motion`, stated in
+``planning/motion/motion.c``: chords of the capsules between states with a bound on the path's curvature,
+intervals cut where needed) — so that the planner, ``rmt check-path`` and every other check give the
+same verdict.  The halving proof above remains for a chain the checker refuses (a prismatic value
+beyond its evaluable range) and without a compiler.
 """
 from __future__ import annotations
 
@@ -85,16 +92,21 @@ def _motion(world, dq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def certify_collision(world, path, max_depth: int = MAX_DEPTH, max_evals: int = MAX_EVALS,
-                      stop_at_first: bool = False, explain: bool = True) -> CollisionProof:
+                      stop_at_first: bool = False, explain: bool = True, bound: bool = True) -> CollisionProof:
     """Prove every segment of ``path`` (M, n), SI, clear of ``world`` (a
     :class:`planning.collision.CollisionWorld`) — or find the first colliding state.
 
     ``stop_at_first``: return as soon as any violation or unproven piece is known (what a motion
-    validator needs: a yes or no); ``explain=False`` (with it) leaves the violation unnamed and unmeasured.
+    validator needs: a yes or no); ``explain=False`` (with it) leaves the violation unnamed and unmeasured;
+    ``bound=False``: with the native checker, do not measure the proven lower bound (``bound`` is then
+    NaN; the verdict is the same).
     """
     P = np.atleast_2d(np.asarray(path, dtype=float))
     if P.size == 0:
         return CollisionProof(True, None)
+    native = _native(world, P, stop_at_first, explain, bound)
+    if native is not None:
+        return native
     m = world.margin
     if stop_at_first and len(P) == 2:
         fast = _motion_in_c(world, P, max_depth, max_evals, explain)
@@ -168,6 +180,52 @@ def certify_collision(world, path, max_depth: int = MAX_DEPTH, max_evals: int = 
             before = (seg < fs) | ((seg == fs) & (t0 < ft))
             seg, t0, t1, o0, o1, s0, s1 = (x[before] for x in (seg, t0, t1, o0, o1, s0, s1))
     return _result(world, P, hits, sorted(unproven), bound, min_s, min_i, evals)
+
+
+def _native(world, P: np.ndarray, stop_at_first: bool, explain: bool, bound: bool) -> CollisionProof | None:
+    """The proof by the native motion checker, segment by segment in order (None: not available here, or a
+    configuration it refuses)."""
+    from planning.motion import checker_for
+    chk = checker_for(world, limits=False)
+    if chk is None:
+        return None
+    rows = world.clearance(P) if explain else np.full(len(P), np.inf)
+    rows = np.atleast_1d(rows)
+    min_s, min_i = float(rows.min()), int(np.argmin(rows))
+    evals, least, unproven = len(P), math.inf, []
+    if len(P) == 1:
+        st = chk.state_status(P[0])
+        if st == "bad":
+            return None
+        if st == "collision":
+            return _result(world, P, [(0, 0.0, P[0])], [], -math.inf, min_s, min_i, evals) if explain \
+                else CollisionProof(False, Collision(0, 0.0, P[0], -1, -1, math.nan, "in collision"))
+        return CollisionProof(True, None, [], float(rows[0]) if bound and explain else math.nan, min_s, min_i, evals)
+    for k in range(len(P) - 1):
+        r = chk.check(P[k], P[k + 1], ordered=True, bound=bound)
+        evals += r.evals
+        if r.status == "bad":
+            return None
+        if r.status == "collision":
+            q = P[k] + r.t * (P[k + 1] - P[k])
+            if not explain:
+                return CollisionProof(False, Collision(k, r.t, q, -1, -1, math.nan, "in collision"), unproven,
+                                      -math.inf, min_s, min_i, evals)
+            return _result(world, P, [(k, r.t, q)], unproven, -math.inf, min_s, min_i, evals)
+        if r.status == "unproven":
+            unproven.append(k)
+            if stop_at_first:
+                break
+            continue
+        if bound:
+            least = min(least, r.bound)
+    if unproven:
+        return CollisionProof(False, None, unproven, math.nan, min_s, min_i, evals)
+    if not bound:
+        least = math.nan
+    elif not math.isfinite(least):      # nothing came within the cap
+        least = world.model.cap
+    return CollisionProof(True, None, [], min(least, min_s) if bound else math.nan, min_s, min_i, evals)
 
 
 def _motion_in_c(world, P: np.ndarray, max_depth: int, max_evals: int, explain: bool) -> CollisionProof | None:

@@ -75,6 +75,7 @@ class CollisionWorld:
         do not depend on where the robot stands).  Reach and placement studies move one world around."""
         self.model.move_base(base)
         self.base = self.model.base
+        self.__dict__.pop("_motion_checkers", None)      # native checkers read the old placement
 
     # ---- evaluation ---------------------------------------------------------------------------
     def clearance(self, Q):

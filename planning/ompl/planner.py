@@ -57,6 +57,8 @@ THREADED_SEARCH = ("PRM", "PRMstar")
 SINGULARITY_SCALE = 0.01
 #: the most sub-states at which the roadmap search evaluates σ_min (about 0.05 s unloaded)
 MAX_COST_STATES = 50_000
+#: default_range: how far (in chain lengths) one edge may move a point of the robot
+RANGE_REACH = 2.0
 
 
 def planner_class(name: str):
@@ -197,7 +199,7 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
          time_limit: float = 2.0, seed: int = 0, sigma_min: float | None = None,
          boxes: Sequence[KeepOutBox] = (), objective: str = "none", simplify: bool = True,
          check_step_angle: float = DEFAULT_STEP_ANGLE, check_step_length: float = DEFAULT_STEP_LENGTH,
-         motion_step: float | None = None, world=None) -> PlanResult:
+         motion_step: float | None = None, world=None, planner_range: float | None = None) -> PlanResult:
     """Plan a joint path from ``start`` to ``goal`` (configurations, SI) — or to ``goal_pose`` (4×4) —
     that stays inside the limits, outside every window of ``windows`` (a WindowSet), above the
     σ_min floor and out of the keep-out boxes.
@@ -209,13 +211,18 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
     of the narrowest window width, at most 1°); ``world``: a
     :class:`planning.collision.CollisionWorld` (the robot in its work cell) whose obstacles and
     self-collisions the path must be proven clear of — every motion the planner keeps is proven
-    (:func:`planning.certify.collision.certify_collision`) and the returned path is proven again.
+    (:func:`planning.certify.collision.certify_collision`) and the returned path is proven again;
+    ``planner_range``: the longest edge of a tree planner (joint-space distance; default
+    :func:`default_range`, from the robot's geometry).
     """
     t0 = time.perf_counter()
     if objective not in OBJECTIVES:
         raise PlanningError(f"objective {objective!r} unknown; allowed: {', '.join(OBJECTIVES)}")
     if not (time_limit > 0 and math.isfinite(time_limit)):
         raise PlanningError(f"time limit {time_limit} must be a positive number of seconds")
+    if planner_range is not None and not (isinstance(planner_range, (int, float)) and math.isfinite(planner_range)
+                                          and planner_range > 0):
+        raise PlanningError(f"planner range {planner_range!r} must be a positive joint-space distance")
     cls = planner_class(planner)
     chain = robot.chain
     start_q, _ = chain.as_batch(start, "start")
@@ -242,18 +249,28 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
                           None, status, False, goal_q, [status], separation=sep, goal_branch=goal_branch)
 
     straight = np.array([start_q, goal_q])
+    # with the native checker every motion the planner keeps is proven and the returned path is checked
+    # by the proofs alone (dense=False: the dense states are evaluated only where a proof stays open)
+    dense = checker.native is None
     # the cheap motion check first: the dense check (σ_min at every 0.1°) only when it passes
     straight_ok = checker.motion_valid(start_q, goal_q) \
-        and check_path(robot, straight, windows, sigma_min, check_step_angle, check_step_length, world=world).valid
+        and check_path(robot, straight, windows, sigma_min, check_step_angle, check_step_length, world=world,
+                       dense=dense).valid
     attempts: list[str] = []
     step = checker.motion_step
     for attempt in range(3):
-        path, raw, status = _solve(robot, cls, checker, start_q, goal_q, time_limit, seed, objective, simplify)
+        if straight_ok and objective == "none" and attempt == 0:
+            path = raw = straight
+            status = "Exact solution (the straight line)"
+        else:
+            path, raw, status = _solve(robot, cls, checker, start_q, goal_q, time_limit, seed, objective, simplify,
+                                       planner_range)
         if path is None:
             attempts.append(f"{status}")
             break
         for cand in ([path, raw] if simplify else [raw]):
-            chk = check_path(robot, cand, windows, sigma_min, check_step_angle, check_step_length, world=world)
+            chk = check_path(robot, cand, windows, sigma_min, check_step_angle, check_step_length, world=world,
+                             dense=dense)
             box_row = _box_violation(robot, checker, cand, check_step_angle, check_step_length) \
                 if chk.valid and checker.boxes else None
             if chk.valid and box_row is None:       # check_path proved the windows (chk.proof)
@@ -309,13 +326,36 @@ def start_goal(space, si, start_q, goal_q):
     return pdef, (s0, s1)
 
 
-def _solve(robot, cls, checker: JointSpaceChecker, start_q, goal_q, time_limit, seed, objective, simplify):
+def default_range(robot) -> float:
+    """The longest edge of the tree planners (OMPL's ``range``, joint-space distance) from the robot's
+    geometry: along an edge of this length no point of the robot moves, by the first-order bound of
+    :func:`kin.geometry.motion.capsule_radii`, more than :data:`RANGE_REACH` times the chain's length
+    (:func:`kin.geometry.chain_length`).  OMPL's own default, a fifth of the joint space's diagonal, makes
+    edges of several radians that mostly end in collision; this gives 1.1 for the Panda and 1.5 for the UR5
+    (the values VAMP tuned by hand: 1.0 and 1.5)."""
+    from kin.geometry import chain_length
+    from kin.geometry.motion import capsule_radii
+    R = capsule_radii(robot.chain, robot.geometry)
+    worst = float(np.linalg.norm(R, axis=1).max()) if len(R) else 0.0
+    length = chain_length(robot.chain)
+    if not (worst > 0 and length > 0):
+        return 1.0
+    return RANGE_REACH * length / worst
+
+
+def _solve(robot, cls, checker: JointSpaceChecker, start_q, goal_q, time_limit, seed, objective, simplify,
+           planner_range=None):
     """One OMPL run → (simplified path (M, n) or None, unsimplified path or None, status text)."""
     n = robot.n
     quiet_rng_seed(seed)
     space, si = joint_space(robot)
-    si.setStateValidityChecker(lambda s: checker.state_valid([s[i] for i in range(n)]))
     mv = _MotionValidator(si, checker)
+    if checker.native is not None and not checker.extras:
+        # every question is answered in C: OMPL calls the native checker directly, no Python in between
+        si.setStateValidityChecker(checker.native.ompl_state())
+        mv.checkMotion = checker.native.ompl_motion()
+    else:
+        si.setStateValidityChecker(lambda s: checker.state_valid([s[i] for i in range(n)]))
     si.setMotionValidator(mv)
     si.setup()
     pdef, (s0, s1) = start_goal(space, si, start_q, goal_q)
@@ -342,6 +382,8 @@ def _solve(robot, cls, checker: JointSpaceChecker, start_q, goal_q, time_limit, 
             pdef.setOptimizationObjective(length)
             keep.append(length)
     pl = cls(si)
+    if hasattr(pl, "setRange"):
+        pl.setRange(default_range(robot) if planner_range is None else float(planner_range))
     pl.setProblemDefinition(pdef)
     pl.setup()
     # the roadmap search is part of the budget: the roadmap grows for 70 % of it
@@ -366,7 +408,9 @@ def _solve(robot, cls, checker: JointSpaceChecker, start_q, goal_q, time_limit, 
                 path.append(st)
                 keep.append(st)
     out = raw
-    if simplify:
+    if simplify and checker.native is not None and not checker.extras:
+        out, _ = checker.native.shortcut(raw, seed=seed)          # in C, every new motion proven
+    elif simplify:
         og.PathSimplifier(si).simplifyMax(path)
         out = np.array([[path.getState(k)[i] for i in range(n)] for k in range(path.getStateCount())])
     del keep

@@ -10,6 +10,11 @@ batch at a joint step finer than the narrowest window, so no window can be jumpe
 :class:`planning.collision.CollisionWorld` a state must be clear by its margin (one call of the
 compiled clearance kernel) and a motion is valid only when it is *proven* clear
 (:func:`planning.certify.collision.certify_collision`), so every edge a planner keeps is proven.
+
+Where a C compiler is available (almost always), limits, interval windows and collisions are answered
+by the native :class:`planning.motion.MotionChecker` — one C call per state and per motion, its proof
+between samples stated in ``planning/motion/motion.c`` — and only the rest (formula and point-set
+windows, a σ_min floor, keep-out boxes: :attr:`JointSpaceChecker.extras`) is checked in Python after it.
 """
 from __future__ import annotations
 
@@ -19,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from kin.singular.evaluate import scalar_function
+from planning import motion as native_motion
 from planning.certify.collision import certify_collision
 from planning.certify.segments import window_expression
 from planning.errors import PlanningError
@@ -45,7 +51,7 @@ class JointSpaceChecker:
     """Validity of configurations and straight motions for one robot and set of constraints."""
 
     def __init__(self, robot, windows=None, sigma_floor: float | None = None, boxes=(),
-                 motion_step: float | None = None, world=None):
+                 motion_step: float | None = None, world=None, native: bool = True):
         self.robot = robot
         self.world = world
         if world is not None and world.robot.chain != robot.chain:
@@ -81,6 +87,14 @@ class JointSpaceChecker:
         if motion_step is not None:
             self.step_angle = self.step_length = float(motion_step)
         self._frames = None
+        #: whether anything is checked in Python (formula and point-set windows, a σ_min floor, boxes)
+        self.extras = bool(self._predicates or self.sigma_floor is not None or self.boxes)
+        #: the native checker of limits, interval windows and collisions (None: all in Python)
+        self.native = None
+        if native and native_motion.available() and (world is None or world.model.backend == "compiled"):
+            intervals = [(j, lo, hi) for j, ivs in self._intervals for lo, hi in ivs]
+            self.native = native_motion.MotionChecker(robot, None, intervals) if world is None \
+                else native_motion.checker_for(world, intervals)
 
     @property
     def motion_step(self) -> float:
@@ -122,6 +136,10 @@ class JointSpaceChecker:
         return None
 
     def state_valid(self, q) -> bool:
+        if self.native is not None:
+            if not self.native.state_valid(np.asarray(q, dtype=float)):
+                return False
+            return not self.extras or self._extras_valid(q)
         for i in range(self.n):
             if q[i] < self.lower[i] or q[i] > self.upper[i]:
                 return False
@@ -138,6 +156,17 @@ class JointSpaceChecker:
         if self.boxes and self._in_box(np.asarray(q, dtype=float)[None]).any():
             return False
         if self.world is not None and not self.world.state_clear(q):
+            return False
+        return True
+
+    def _extras_valid(self, q) -> bool:
+        """The Python part of :meth:`state_valid` (with the native checker)."""
+        for g, eps in self._predicates:
+            if abs(g(q)) <= eps:
+                return False
+        if self.sigma_floor is not None and self.sigma(q) < self.sigma_floor:
+            return False
+        if self.boxes and self._in_box(np.asarray(q, dtype=float)[None]).any():
             return False
         return True
 
@@ -182,6 +211,14 @@ class JointSpaceChecker:
         """
         a = [float(x) for x in a]
         b = [float(x) for x in b]
+        if self.native is not None:
+            if not self.native.motion_valid(np.array(a), np.array(b)):
+                return False
+            if not self.extras:
+                return True
+            if not (self._extras_valid(b) and self._extras_valid(a)):
+                return False
+            return self._extras_motion(a, b)
         if not (self.state_valid(b) and self.state_valid(a)):
             return False
         for j, ivs in self._intervals:
@@ -192,9 +229,14 @@ class JointSpaceChecker:
         if self.world is not None and \
                 not certify_collision(self.world, [a, b], stop_at_first=True, explain=False).proven:
             return False
-        if not (self._predicate_windows or self.sigma_floor is not None or self.boxes):
+        return self._extras_motion(a, b)
+
+    def _extras_motion(self, a, b) -> bool:
+        """Formula and point-set windows, the σ_min floor and the boxes at the states of
+        :meth:`motion_states` (the end states are checked already)."""
+        if not self.extras:
             return True
-        Q = self.motion_states(a, b)[1:-1]          # the end states are already checked
+        Q = self.motion_states(a, b)[1:-1]
         if len(Q) == 0:
             return True
         for w in self._predicate_windows:

@@ -1,0 +1,126 @@
+/* States (included by motion.c): which of eight placed states are not clear by the margin — an exact
+   verdict per lane.  Bodies against primitives, then body pairs, each down the hierarchy body ball →
+   group balls → capsule balls (balls.h, eight lanes at once) → the exact distance of clearance.c for a
+   capsule of non-zero length whose ball is not clear. */
+#ifndef RMT_MOTION_STATES_H
+#define RMT_MOTION_STATES_H
+
+RMT_INLINE void fill_rad(double *rad, double r)
+{
+  for (int l = 0; l < LANES; ++l) rad[l] = r;
+}
+
+/* the lanes of `cand` where capsule c is not clear of primitive p (thr: the margin, tnext: the next double) */
+static unsigned cap_prim_lanes(const rmt_motion *X, const block *B, long long c, long long p, unsigned cand,
+                               double thr, double tnext)
+{
+  const rmt_clear_model *m = X->m;
+  const double *P = m->prim + RMT_PRIM_STRIDE * p;
+  long long kind = m->prim_int[4 * p];
+  wcap w;
+  unsigned hit = 0;
+  if (kind == RMT_PRIM_SET) {
+    for (int l = 0; l < LANES; ++l) {
+      if (!((cand >> l) & 1)) continue;
+      long long h;
+      cap_of(m, B, l, c, &w);
+      cap_set(m, m->prim_int[4 * p + 2], &w, tnext, &h);
+      if (h >= 0) hit |= 1u << l;
+    }
+    return hit;
+  }
+  double cx[LANES], cy[LANES], cz[LANES], rad[LANES];
+  fill_rad(rad, cap_balls(m, B, c, cx, cy, cz) + SLACK);
+  hit = ball_prim(P, kind, cx, cy, cz, rad, thr) & cand;
+  if (m->cap[RMT_CAP_STRIDE * c + 7] == 0.0) return hit;         /* a ball: its ball test is exact */
+  for (int l = 0; l < LANES && hit; ++l) {
+    if (!((hit >> l) & 1)) continue;
+    cap_of(m, B, l, c, &w);
+    if (cap_prim(&w, P, kind, tnext, 0, NULL) > thr) hit &= ~(1u << l);
+  }
+  return hit;
+}
+
+/* the lanes of `cand` where capsules ci and cj are not clear of each other */
+static unsigned cap_cap_lanes(const rmt_motion *X, const block *B, long long ci, long long cj, unsigned cand,
+                              double thr)
+{
+  const rmt_clear_model *m = X->m;
+  double ax[LANES], ay[LANES], az[LANES], bx[LANES * 3], rad[LANES];
+  double ri = cap_balls(m, B, ci, ax, ay, az);
+  double rj = cap_balls(m, B, cj, bx, bx + LANES, bx + 2 * LANES);
+  fill_rad(rad, ri + SLACK);
+  unsigned hit = ball_point(ax, ay, az, rad, bx, 1, rj + thr) & cand;
+  if (m->cap[RMT_CAP_STRIDE * ci + 7] == 0.0 && m->cap[RMT_CAP_STRIDE * cj + 7] == 0.0) return hit;
+  wcap u, w;
+  for (int l = 0; l < LANES && hit; ++l) {
+    if (!((hit >> l) & 1)) continue;
+    double s, t;
+    cap_of(m, B, l, ci, &u);
+    cap_of(m, B, l, cj, &w);
+    if (seg_seg(&u, w.a, w.d, w.dd, w.idd, &s, &t) - u.r - w.r > thr) hit &= ~(1u << l);
+  }
+  return hit;
+}
+
+/* the lanes (bits) of `lanes` in block B whose state is not clear by the margin (exact per lane); with
+   `stop`, returns as soon as one is found */
+static unsigned block_collisions(const rmt_motion *X, const block *B, unsigned lanes, int stop)
+{
+  const rmt_clear_model *m = X->m;
+  double thr = X->margin, tnext = nextafter(thr, HUGE_VAL);
+  unsigned bad = 0;
+  double rad[LANES], grad[LANES];
+  for (long long b = 0; b <= m->last; ++b) {
+    if (m->body_cap[b] == m->body_cap[b + 1]) continue;
+    const double *Wb = B->W + 3 * LANES * b;
+    fill_rad(rad, m->body_sphere[4 * b + 3] + SLACK);
+    for (long long p = 0; p < m->nprim; ++p) {
+      if ((m->prim_int[4 * p + 3] >> b) & 1) continue;
+      const double *P = m->prim + RMT_PRIM_STRIDE * p;
+      long long kind = m->prim_int[4 * p];
+      unsigned near = ball_bound(P, Wb, Wb + LANES, Wb + 2 * LANES, rad, thr) & lanes & ~bad;
+      for (long long g = X->gbeg[b]; g < X->gbeg[b + 1] && near; ++g) {
+        const double *Gg = B->G + 3 * LANES * g;
+        fill_rad(grad, X->gball[4 * g + 3] + SLACK);
+        unsigned gn = (kind == RMT_PRIM_SET ? ball_bound(P, Gg, Gg + LANES, Gg + 2 * LANES, grad, thr)
+                                            : ball_prim(P, kind, Gg, Gg + LANES, Gg + 2 * LANES, grad, thr)) & near;
+        for (long long k = X->cbeg[g]; k < X->cbeg[g + 1] && gn; ++k) {
+          unsigned hit = cap_prim_lanes(X, B, X->gcap[k], p, gn, thr, tnext);
+          bad |= hit;
+          gn &= ~hit;
+          near &= ~hit;
+        }
+      }
+      if (stop && bad) return bad;
+    }
+  }
+  for (long long pr = 0; pr < m->npair; ++pr) {
+    long long bi = m->pair[2 * pr], bj = m->pair[2 * pr + 1];
+    const double *Wi = B->W + 3 * LANES * bi, *Wj = B->W + 3 * LANES * bj;
+    fill_rad(rad, m->body_sphere[4 * bj + 3] + SLACK);
+    unsigned near = ball_point(Wj, Wj + LANES, Wj + 2 * LANES, rad, Wi, 1, m->body_sphere[4 * bi + 3] + thr)
+                    & lanes & ~bad;
+    for (long long gj = X->gbeg[bj]; gj < X->gbeg[bj + 1] && near; ++gj) {
+      const double *Gj = B->G + 3 * LANES * gj;
+      fill_rad(grad, X->gball[4 * gj + 3] + SLACK);
+      unsigned n1 = ball_point(Gj, Gj + LANES, Gj + 2 * LANES, grad, Wi, 1, m->body_sphere[4 * bi + 3] + thr) & near;
+      for (long long gi = X->gbeg[bi]; gi < X->gbeg[bi + 1] && n1; ++gi) {
+        const double *Gi = B->G + 3 * LANES * gi;
+        unsigned n2 = ball_point(Gj, Gj + LANES, Gj + 2 * LANES, grad, Gi, 1, X->gball[4 * gi + 3] + thr) & n1;
+        for (long long kj = X->cbeg[gj]; kj < X->cbeg[gj + 1] && n2; ++kj)
+          for (long long ki = X->cbeg[gi]; ki < X->cbeg[gi + 1] && n2; ++ki) {
+            unsigned hit = cap_cap_lanes(X, B, X->gcap[ki], X->gcap[kj], n2, thr);
+            bad |= hit;
+            n2 &= ~hit;
+            n1 &= ~hit;
+            near &= ~hit;
+          }
+      }
+    }
+    if (stop && bad) return bad;
+  }
+  return bad;
+}
+
+#endif
