@@ -124,8 +124,9 @@ def _sources(source: Path, include_dirs: Sequence[Path] = ()) -> list[str]:
 def library_key(source: Path, header: str, flags: Sequence[str], key: Sequence[str], arch: str, compiler: str,
                 include_dirs: Sequence[Path] = ()) -> str:
     """The hash that names a library (see the module docstring)."""
-    parts = [*_sources(source, include_dirs), header, compiler_identity(compiler), " ".join([*COMMON_FLAGS, *ARCH_FLAGS[arch],
-             *flags]), sys.platform, cpu_fingerprint() if arch == "native" else platform.machine(), *key]
+    parts = [*_sources(source, include_dirs), header, compiler_identity(compiler),
+             " ".join([*COMMON_FLAGS, *ARCH_FLAGS[arch], *flags]), sys.platform,
+             cpu_fingerprint() if arch == "native" else platform.machine(), *key]
     return hashlib.sha256("\0".join(parts).encode()).hexdigest()[:20]
 
 

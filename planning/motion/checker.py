@@ -33,7 +33,8 @@ from kin.geometry.motion import _walks, capsule_radii
 from kin.native import build_with_extension, find_compiler
 from planning.errors import PlanningError
 
-__all__ = ["MotionChecker", "MotionCheck", "available", "checker_for", "DEFAULT_STEP", "MAX_DEPTH", "MAX_EVALS", "MAX_STATES"]
+__all__ = ["MotionChecker", "MotionCheck", "available", "checker_for", "groups", "DEFAULT_STEP", "MAX_DEPTH",
+           "MAX_EVALS", "MAX_STATES"]
 
 SOURCE = Path(__file__).resolve().with_name("motion.c")
 CLEARANCE_DIR = Path(__file__).resolve().parents[2] / "kin" / "geometry"
