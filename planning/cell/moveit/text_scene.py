@@ -12,7 +12,7 @@ The format, as MoveIt writes and reads it (whitespace-separated tokens, one item
     1.2 0.8 0.04                  box x y z (full edge lengths); sphere r; cylinder r length; cone r length;
                                   mesh "V T", V lines of x y z, T lines of vertex indices i j k (from 0)
     0 0 0                         the shape's pose (in the object's frame): x y z,
-    0 0 0 0.999 0.04              … then x y z w — here a hand-written 5 numbers would be an error
+    0 0 0.0399643 0.999201        then a quaternion x y z w
     0 0 0 0                       its colour r g b a (MoveIt always writes it; read when present)
     0                             (MoveIt ≥ 1.1.10) the number of subframes, then per subframe a name and a pose
     .                             the end
