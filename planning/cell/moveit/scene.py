@@ -73,8 +73,8 @@ class SceneObject:
 @dataclass(frozen=True, eq=False)
 class Scene:
     """The world of a planning scene: ``name`` (the scene's, may be empty), ``objects``, ``format`` (what
-    was read: ``"PlanningScene YAML"``, ``".scene text (object poses, MoveIt ≥ 1.1)"`` or ``".scene text
-    (MoveIt ≤ 1.0)"``), ``source`` (the file, for messages), ``notes`` (what was read but not imported:
+    was read: ``"PlanningScene YAML"`` or one of :data:`planning.cell.moveit.text_scene.FORMAT_POSES`,
+    ``FORMAT_NO_POSES``), ``source`` (the file, for messages), ``notes`` (what was read but not imported:
     the robot's state, attached objects, the allowed collision matrix, octomaps, …) and
     ``robot_model_name`` (as the scene says, may be empty)."""
 
