@@ -43,15 +43,14 @@ def _walks(chain) -> np.ndarray:
     n = chain.n
     L = row_lengths(chain)
     tool_len = float(np.linalg.norm(chain.tool.matrix[:3, 3]))
-    modified = chain.convention == "modified"
-    W = np.zeros((n, n + 2))
-    for j in range(1, n + 1):
-        for k in range(j, n + 2):
-            last = min(k, n)
-            first = j + 1 if modified else j
-            walk = float(L[first - 1:last].sum()) if last >= first else 0.0
-            W[j - 1, k] = walk + (tool_len if k == n + 1 else 0.0)
-    return W
+    cum = np.concatenate([[0.0], np.cumsum(L)])           # cum[i] = L[0] + … + L[i − 1]
+    j = np.arange(1, n + 1)[:, None]                      # joints 1 … n
+    k = np.arange(n + 2)[None, :]                         # bodies 0 … n + 1
+    first = j + 1 if chain.convention == "modified" else j
+    last = np.minimum(k, n)
+    W = np.where(last >= first, cum[np.clip(last, 0, n)] - cum[np.clip(first - 1, 0, n)], 0.0)
+    W = W + np.where(k == n + 1, tool_len, 0.0)
+    return np.where(k >= j, W, 0.0)
 
 
 def capsule_radii(chain, geometry) -> np.ndarray:
@@ -62,14 +61,13 @@ def capsule_radii(chain, geometry) -> np.ndarray:
     n = chain.n
     W = _walks(chain)
     rev = chain.revolute_mask
-    R = np.zeros((len(geometry.capsules), n))
-    for c, cap in enumerate(geometry.capsules):
-        k = cap.body
-        for j in range(1, min(k, n + 1) + 1):
-            if j > n:
-                break
-            R[c, j - 1] = (W[j - 1, k] + cap.reach) if rev[j - 1] else 1.0
-    return R
+    caps = geometry.capsules
+    body = np.array([c.body for c in caps], dtype=np.int64)
+    ends = np.array([(*c.a, *c.b) for c in caps], dtype=float).reshape(-1, 6)
+    reach = np.maximum(np.linalg.norm(ends[:, :3], axis=1), np.linalg.norm(ends[:, 3:], axis=1))
+    moves = np.arange(1, n + 1)[None, :] <= body[:, None]          # joint j moves body k when j ≤ k
+    R = np.where(rev[None, :], W[:, body].T + reach[:, None], 1.0)
+    return np.where(moves, R, 0.0)
 
 
 def curvature_bound(R: np.ndarray, dq: np.ndarray, revolute: np.ndarray) -> np.ndarray:

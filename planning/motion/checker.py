@@ -49,8 +49,8 @@ MAX_EVALS = 200_000
 #: capsules per group of the hierarchy body ball → group balls → capsules
 GROUP_SIZE = 4
 #: random shortcuts tried at most, and failures in a row after which shortening stops
-SHORTCUT_TRIES = 200
-SHORTCUT_PATIENCE = 40
+SHORTCUT_TRIES = 100
+SHORTCUT_PATIENCE = 15
 #: the longest path shortened (rows; shortcut.h)
 MAX_ROWS = 4096
 STATUS = {1: "clear", 0: "collision", -1: "unproven", -2: "bad", 2: "limits", 3: "window"}
@@ -80,6 +80,7 @@ class MotionCheck(NamedTuple):
 
 
 _lock = threading.Lock()
+_cache_lock = threading.RLock()
 _loaded: dict[str, object] = {}
 
 
@@ -176,6 +177,39 @@ def _ball_radii(chain, model, gball: np.ndarray, gbeg: np.ndarray) -> np.ndarray
     return R
 
 
+_tables: dict[bytes, tuple] = {}
+
+
+def _robot_tables(chain, model) -> tuple:
+    """(R, gbeg, cbeg, gcap, gball, Rb) of a model: what depends on the robot and its tool only, made
+    once per robot (a new cell, as each MotionBenchMaker problem has, reuses them)."""
+    import hashlib
+    flat = model._flat
+    h = hashlib.sha1()
+    for a in (flat.dh, flat.cap, flat.body_cap, flat.body_sphere, flat.capsule_index, flat.tool,
+              chain.lower, chain.upper, chain.revolute_mask):
+        h.update(np.ascontiguousarray(a).tobytes())
+    h.update(chain.convention.encode())
+    key = h.digest()
+    with _cache_lock:
+        hit = _tables.get(key)
+    if hit is not None:
+        return hit
+    n = chain.n
+    R = capsule_radii(chain, model.geometry)[flat.capsule_index] if len(flat.cap) else np.zeros((0, n))
+    R = np.ascontiguousarray(R.reshape(-1, n) if R.size else np.zeros((1, n)))
+    gbeg, cbeg, gcap, gball = groups(model)
+    Rb = np.ascontiguousarray(_ball_radii(chain, model, gball, gbeg))
+    out = (R, gbeg, cbeg, gcap, gball, Rb)
+    for a in out:
+        a.setflags(write=False)
+    with _cache_lock:
+        if len(_tables) > 64:
+            _tables.clear()
+        _tables[key] = out
+    return out
+
+
 class MotionChecker:
     """State and motion validity for ``robot`` (a :class:`kin.Robot`) in ``world`` (a
     :class:`planning.collision.CollisionWorld`, or None: no collisions), outside the interval windows
@@ -214,11 +248,7 @@ class MotionChecker:
             raise PlanningError("the native motion checker needs the compiled clearance kernel")
         self.model = model
         if model is not None:
-            flat = model._flat
-            R = capsule_radii(chain, model.geometry)[flat.capsule_index] if len(flat.cap) else np.zeros((0, n))
-            self.R = np.ascontiguousarray(R.reshape(-1, n) if R.size else np.zeros((1, n)))
-            self.gbeg, self.cbeg, self.gcap, self.gball = groups(model)
-            self.Rb = np.ascontiguousarray(_ball_radii(chain, model, self.gball, self.gbeg))
+            self.R, self.gbeg, self.cbeg, self.gcap, self.gball, self.Rb = _robot_tables(chain, model)
             struct, mp, margin, cap = model._struct, model._mp, world.margin, model.cap
         else:
             self.R = np.zeros((1, n))
@@ -328,9 +358,6 @@ class MotionChecker:
             return dll.rmt_motion_check(ptr, a, b, 0, 0, rp) == 1
 
         return motion
-
-
-_cache_lock = threading.Lock()
 
 
 def checker_for(world, intervals=(), limits: bool = True) -> MotionChecker | None:

@@ -113,78 +113,37 @@ RMT_INLINE int in_limits(const rmt_motion *X, const double *q)
   return 1;
 }
 
-/* Whether body pair pr is apart by more than `need` in lane l of block B (the balls first, then the
-   groups and every capsule pair, stopping at the first that is not). */
-static int pair_apart(const rmt_motion *X, const block *B, int l, long long pr, double need)
-{
-  const rmt_clear_model *m = X->m;
-  long long bi = m->pair[2 * pr], bj = m->pair[2 * pr + 1];
-  const double *Wi = B->W + 3 * LANES * bi, *Wj = B->W + 3 * LANES * bj;
-  double pi[3] = { Wi[l], Wi[LANES + l], Wi[2 * LANES + l] }, pj[3] = { Wj[l], Wj[LANES + l], Wj[2 * LANES + l] };
-  if (far_apart(dist2(pi, pj), m->body_sphere[4 * bi + 3] + m->body_sphere[4 * bj + 3], need)) return 1;
-  wcap u, w;
-  for (long long gi = X->gbeg[bi]; gi < X->gbeg[bi + 1]; ++gi) {
-    const double *Gi = B->G + 3 * LANES * gi;
-    double ci[3] = { Gi[l], Gi[LANES + l], Gi[2 * LANES + l] };
-    if (far_apart(dist2(ci, pj), X->gball[4 * gi + 3] + m->body_sphere[4 * bj + 3], need)) continue;
-    for (long long gj = X->gbeg[bj]; gj < X->gbeg[bj + 1]; ++gj) {
-      const double *Gj = B->G + 3 * LANES * gj;
-      double cj[3] = { Gj[l], Gj[LANES + l], Gj[2 * LANES + l] };
-      if (far_apart(dist2(ci, cj), X->gball[4 * gi + 3] + X->gball[4 * gj + 3], need)) continue;
-      for (long long ki = X->cbeg[gi]; ki < X->cbeg[gi + 1]; ++ki) {
-        cap_of(m, B, l, X->gcap[ki], &u);
-        for (long long kj = X->cbeg[gj]; kj < X->cbeg[gj + 1]; ++kj) {
-          cap_of(m, B, l, X->gcap[kj], &w);
-          if (far_apart(dist2(u.m, w.m), u.rb + w.rb, need)) continue;
-          double s, t;
-          if (!(seg_seg(&u, w.a, w.d, w.dd, w.idd, &s, &t) - u.r - w.r >= need)) return 0;
-        }
-      }
-    }
-  }
-  return 1;
-}
-
 /* The strips (eighths of the motion, one per lane) on which each body–primitive pair and each checked
    body pair is proven clear from the states at the strips' ends alone, into X->omask and X->pmask (a bit
-   set: left to the intervals' tests).  A distance changes at most as fast as the points move: over the
-   whole motion L (the body ball's first-order bound against obstacles; that of the upper body's ball in
-   the lower body's frame against another body), so over a strip it stays above the margin when it is
-   above L / 16 + margin at both ends.  B0 holds the strips' starts (lanes 0 … 7), E the motion's end. */
-static void strip_culls(rmt_motion *X, const block *B0, const block *E)
+   set: left to the intervals' tests); returns the strips with anything left.  A distance changes at most
+   as fast as the points move: over the whole motion L (the body ball's first-order bound against
+   obstacles; that of the upper body's ball in the lower body's frame against another body), so over a
+   strip it stays above the margin when it is above L / 16 + margin at both ends.  B0 holds the strips'
+   starts (lanes 0 … 7), E the motion's end (lane 0). */
+static unsigned strip_culls(rmt_motion *X, const block *B0, const block *E)
 {
   const rmt_clear_model *m = X->m;
   long long np = m->nprim, nb = m->nbody;
-  for (long long b = 0; b <= m->last && np > 0; ++b) {
+  unsigned open = 0;
+  for (long long b = 0; b <= m->last; ++b) {
     if (m->body_cap[b] == m->body_cap[b + 1]) continue;
     double need = X->Lb[b] / (2 * LANES) + X->margin + 2.0 * SLACK;
-    unsigned *om = X->omask + np * b;
-    for (long long p = 0; p < np; ++p) om[p] = 0;
-    for (int k = 0; k <= LANES; ++k) {
-      const block *B = k < LANES ? B0 : E;
-      int l = k < LANES ? k : 0;
-      const double *Wb = B->W + 3 * LANES * b;
-      double ball[4] = { Wb[l], Wb[LANES + l], Wb[2 * LANES + l], m->body_sphere[4 * b + 3] };
-      body_bounds(m, ball, b, X->plb);
-      for (long long p = 0; p < np; ++p) {
-        unsigned char now = X->plb[p] >= need;
-        if (k > 0 && !(now && X->okp[p])) om[p] |= 1u << (k - 1);
-        X->okp[p] = now;
-      }
+    for (long long p = 0; p < np; ++p) {
+      unsigned ends = body_prim_lanes(X, B0, b, p, ALL_LANES, need) | body_prim_lanes(X, E, b, p, 1u, need) << LANES;
+      unsigned om = (ends | ends >> 1) & ALL_LANES;      /* strip l: its start (bit l) or end (bit l + 1) near */
+      X->omask[np * b + p] = om;
+      open |= om;
     }
   }
   for (long long pr = 0; pr < m->npair; ++pr) {
     long long bi = m->pair[2 * pr], bj = m->pair[2 * pr + 1];
     double need = X->Lbrel[nb * bj + bi] / (2 * LANES) + X->margin + 2.0 * SLACK;
-    unsigned mask = 0;
-    int prev = 0;
-    for (int k = 0; k <= LANES; ++k) {
-      int now = k < LANES ? pair_apart(X, B0, k, pr, need) : pair_apart(X, E, 0, pr, need);
-      if (k > 0 && !(now && prev)) mask |= 1u << (k - 1);
-      prev = now;
-    }
-    X->pmask[pr] = mask;
+    unsigned ends = pair_lanes(X, B0, pr, ALL_LANES, need) | pair_lanes(X, E, pr, 1u, need) << LANES;
+    unsigned pm = (ends | ends >> 1) & ALL_LANES;
+    X->pmask[pr] = pm;
+    open |= pm;
   }
+  return open;
 }
 
 /* ---- refinement ----------------------------------------------------------------------------------- */
@@ -251,9 +210,17 @@ RMT_INLINE void note(rmt_motion_result *best, int status, double t)
 }
 
 /* ---- entry points ----------------------------------------------------------------------------------- */
-/* Check the motion a -> b (n each) into r (status: RMT_MOTION_*).  ordered: every interval is looked at
-   and the violation reported is the earliest along the motion; bound: also measure a proven lower bound
-   of the clearance along a proven motion (r->bound; inf when nothing comes within the cap). */
+/* Check the motion a -> b (n each) into r (status: RMT_MOTION_*).
+
+   S blocks of LANES states: lane l walks the l-th eighth ("strip") of the motion, its states
+   l (S - 1) + 0 … S - 1 of K = LANES (S - 1) intervals, K from the first-order bound and `step`.  The first
+   block (t = l / 8) and the motion's end are tested as states — most invalid motions are refuted there —
+   and strip_culls proves what it can of each strip from those ends; the intervals of every later block
+   are tested only for the pairs left open on their strip, and an interval that is not proven is cut
+   into eight, again and again (refine).  When nothing is left open after the first block, the motion is
+   proven without placing another state.  ordered: every interval is looked at and the violation reported
+   is the earliest along the motion; bound: every interval is measured (interval_exact), r->bound a proven
+   lower bound of the clearance along a proven motion (inf when nothing comes within the cap). */
 int rmt_motion_check(rmt_motion *X, const double *a, const double *b, int ordered, int bound, rmt_motion_result *r)
 {
   long long n = X->n;
@@ -267,34 +234,37 @@ int rmt_motion_check(rmt_motion *X, const double *a, const double *b, int ordere
   if (tw == tw) { r->t = tw; return r->status = RMT_MOTION_WINDOW; }
   const rmt_clear_model *m = X->m;
   if (m == NULL || m->ncap == 0) return r->status;
-  /* S blocks of LANES states; lane l's states are l (S - 1) + 0 … S - 1 of K = LANES (S - 1) intervals */
   double need = ceil(motion_bounds(X, dq) / X->step);
   long long S = (long long)(need / LANES) + 2;
   long long most = X->max_states / LANES;
   if (S > most) S = most < 2 ? 2 : most;
   double K = (double)(LANES * (S - 1)), h = 1.0 / K, q8 = 0.125 * h * h;
-  r->states = LANES * (S - 1) + 1;
   double *lb = bound ? &r->bound : NULL;
-  X->ordered = ordered;
+  X->ordered = ordered || bound;
   rmt_motion_result best = { RMT_MOTION_CLEAR, NAN, 0, 0, HUGE_VAL };
-  block *prev = X->blk;
-  for (long long bk = 0; bk < S; ++bk) {
-    block *cur = bk == 0 ? X->blk : X->blk + 1 + (bk & 1);
+  block *B0 = X->blk, *E = &X->one, *prev = B0;
+  for (int l = 0; l < LANES; ++l) B0->t[l] = (double)(l * (S - 1)) / K;
+  place_states(X, a, dq, B0);
+  place_one(X, b, 1.0, E);
+  r->evals += LANES + 1;
+  r->states = LANES * (S - 1) + 1;
+  unsigned coll = block_collisions(X, B0, ALL_LANES, !X->ordered);
+  if (coll && !X->ordered) { r->t = B0->t[__builtin_ctz(coll)]; return r->status = RMT_MOTION_COLLISION; }
+  for (int k = 0; k < LANES; ++k) if ((coll >> k) & 1) note(&best, RMT_MOTION_COLLISION, B0->t[k]);
+  if (block_collisions(X, E, 1u, 1)) {
+    if (!X->ordered) { r->t = 1.0; return r->status = RMT_MOTION_COLLISION; }
+    note(&best, RMT_MOTION_COLLISION, 1.0);
+  }
+  unsigned open = ALL_LANES;
+  if (bound) {
+    for (long long p = 0; p < m->npair; ++p) X->pmask[p] = ALL_LANES;
+    for (long long k = 0; k < m->nbody * m->nprim; ++k) X->omask[k] = ALL_LANES;
+  } else open = strip_culls(X, B0, E);
+  for (long long bk = 1; bk < S && open; ++bk) {
+    block *cur = X->blk + 1 + (bk & 1);
     for (int l = 0; l < LANES; ++l) cur->t[l] = (double)(l * (S - 1) + bk) / K;
     place_states(X, a, dq, cur);
     r->evals += LANES;
-    if (bk == 0) {                          /* eight states spread over the motion: refute it early */
-      unsigned coll = block_collisions(X, cur, ALL_LANES, !ordered);
-      if (coll) {
-        if (!ordered) { r->t = cur->t[__builtin_ctz(coll)]; return r->status = RMT_MOTION_COLLISION; }
-        for (int k = 0; k < LANES; ++k) if ((coll >> k) & 1) note(&best, RMT_MOTION_COLLISION, cur->t[k]);
-      }
-      place_one(X, b, 1.0, &X->one);        /* the motion's end, and what is proven strip by strip */
-      r->evals += 1;
-      strip_culls(X, cur, &X->one);
-      prev = cur;
-      continue;
-    }
     unsigned bad = 0;
     if (lb) {
       for (int l = 0; l < LANES; ++l) {
@@ -302,15 +272,15 @@ int rmt_motion_check(rmt_motion *X, const double *a, const double *b, int ordere
         if (!interval_exact(X, prev, l, cur, l, q8, &least)) bad |= 1u << l;
         else if (least < *lb) *lb = least;
       }
-    } else bad = block_intervals(X, prev, cur, q8, ALL_LANES, -1);
+    } else bad = block_intervals(X, prev, cur, q8, open, -1);
     for (int l = 0; l < LANES && bad; ++l) {
       if (!((bad >> l) & 1)) continue;
-      if (ordered && best.status != RMT_MOTION_CLEAR && best.t <= prev->t[l]) continue;
+      if (best.status != RMT_MOTION_CLEAR && best.t <= prev->t[l]) continue;
       rmt_motion_result sub = *r;
       int st = refine(X, a, dq, prev, l, cur, l, h, 0, l, &sub, lb);
       r->evals = sub.evals;
       if (st == RMT_MOTION_CLEAR) continue;
-      if (!ordered) { r->t = sub.t; return r->status = st; }
+      if (!X->ordered) { r->t = sub.t; return r->status = st; }
       note(&best, st, sub.t);
     }
     prev = cur;

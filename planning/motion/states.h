@@ -63,62 +63,80 @@ static unsigned cap_cap_lanes(const rmt_motion *X, const block *B, long long ci,
   return hit;
 }
 
+/* the lanes of `lanes` where body b comes within thr of primitive p (exact per lane: body ball →
+   group balls → capsules) */
+static unsigned body_prim_lanes(const rmt_motion *X, const block *B, long long b, long long p, unsigned lanes,
+                                double thr)
+{
+  const rmt_clear_model *m = X->m;
+  if ((m->prim_int[4 * p + 3] >> b) & 1) return 0;
+  const double *P = m->prim + RMT_PRIM_STRIDE * p, *Wb = B->W + 3 * LANES * b;
+  long long kind = m->prim_int[4 * p];
+  double rad[LANES], grad[LANES], tnext = nextafter(thr, HUGE_VAL);
+  fill_rad(rad, m->body_sphere[4 * b + 3] + SLACK);
+  unsigned near = ball_bound(P, Wb, Wb + LANES, Wb + 2 * LANES, rad, thr) & lanes, hit = 0;
+  for (long long g = X->gbeg[b]; g < X->gbeg[b + 1] && near; ++g) {
+    const double *Gg = B->G + 3 * LANES * g;
+    fill_rad(grad, X->gball[4 * g + 3] + SLACK);
+    unsigned gn = (kind == RMT_PRIM_SET ? ball_bound(P, Gg, Gg + LANES, Gg + 2 * LANES, grad, thr)
+                                        : ball_prim(P, kind, Gg, Gg + LANES, Gg + 2 * LANES, grad, thr)) & near;
+    for (long long k = X->cbeg[g]; k < X->cbeg[g + 1] && gn; ++k) {
+      unsigned h = cap_prim_lanes(X, B, X->gcap[k], p, gn, thr, tnext);
+      hit |= h;
+      gn &= ~h;
+      near &= ~h;
+    }
+  }
+  return hit;
+}
+
+/* the lanes of `lanes` where body pair pr comes within thr (exact per lane: body balls → group balls →
+   capsules) */
+static unsigned pair_lanes(const rmt_motion *X, const block *B, long long pr, unsigned lanes, double thr)
+{
+  const rmt_clear_model *m = X->m;
+  long long bi = m->pair[2 * pr], bj = m->pair[2 * pr + 1];
+  const double *Wi = B->W + 3 * LANES * bi, *Wj = B->W + 3 * LANES * bj;
+  double rad[LANES], grad[LANES];
+  fill_rad(rad, m->body_sphere[4 * bj + 3] + SLACK);
+  unsigned near = ball_point(Wj, Wj + LANES, Wj + 2 * LANES, rad, Wi, 1, m->body_sphere[4 * bi + 3] + thr) & lanes;
+  unsigned hit = 0;
+  for (long long gj = X->gbeg[bj]; gj < X->gbeg[bj + 1] && near; ++gj) {
+    const double *Gj = B->G + 3 * LANES * gj;
+    fill_rad(grad, X->gball[4 * gj + 3] + SLACK);
+    unsigned n1 = ball_point(Gj, Gj + LANES, Gj + 2 * LANES, grad, Wi, 1, m->body_sphere[4 * bi + 3] + thr) & near;
+    for (long long gi = X->gbeg[bi]; gi < X->gbeg[bi + 1] && n1; ++gi) {
+      const double *Gi = B->G + 3 * LANES * gi;
+      unsigned n2 = ball_point(Gj, Gj + LANES, Gj + 2 * LANES, grad, Gi, 1, X->gball[4 * gi + 3] + thr) & n1;
+      for (long long kj = X->cbeg[gj]; kj < X->cbeg[gj + 1] && n2; ++kj)
+        for (long long ki = X->cbeg[gi]; ki < X->cbeg[gi + 1] && n2; ++ki) {
+          unsigned h = cap_cap_lanes(X, B, X->gcap[ki], X->gcap[kj], n2, thr);
+          hit |= h;
+          n2 &= ~h;
+          n1 &= ~h;
+          near &= ~h;
+        }
+    }
+  }
+  return hit;
+}
+
 /* the lanes (bits) of `lanes` in block B whose state is not clear by the margin (exact per lane); with
    `stop`, returns as soon as one is found */
 static unsigned block_collisions(const rmt_motion *X, const block *B, unsigned lanes, int stop)
 {
   const rmt_clear_model *m = X->m;
-  double thr = X->margin, tnext = nextafter(thr, HUGE_VAL);
   unsigned bad = 0;
-  double rad[LANES], grad[LANES];
   for (long long b = 0; b <= m->last; ++b) {
     if (m->body_cap[b] == m->body_cap[b + 1]) continue;
-    const double *Wb = B->W + 3 * LANES * b;
-    fill_rad(rad, m->body_sphere[4 * b + 3] + SLACK);
     for (long long p = 0; p < m->nprim; ++p) {
-      if ((m->prim_int[4 * p + 3] >> b) & 1) continue;
-      const double *P = m->prim + RMT_PRIM_STRIDE * p;
-      long long kind = m->prim_int[4 * p];
-      unsigned near = ball_bound(P, Wb, Wb + LANES, Wb + 2 * LANES, rad, thr) & lanes & ~bad;
-      for (long long g = X->gbeg[b]; g < X->gbeg[b + 1] && near; ++g) {
-        const double *Gg = B->G + 3 * LANES * g;
-        fill_rad(grad, X->gball[4 * g + 3] + SLACK);
-        unsigned gn = (kind == RMT_PRIM_SET ? ball_bound(P, Gg, Gg + LANES, Gg + 2 * LANES, grad, thr)
-                                            : ball_prim(P, kind, Gg, Gg + LANES, Gg + 2 * LANES, grad, thr)) & near;
-        for (long long k = X->cbeg[g]; k < X->cbeg[g + 1] && gn; ++k) {
-          unsigned hit = cap_prim_lanes(X, B, X->gcap[k], p, gn, thr, tnext);
-          bad |= hit;
-          gn &= ~hit;
-          near &= ~hit;
-        }
-      }
-      if (stop && bad) return bad;
+      bad |= body_prim_lanes(X, B, b, p, lanes & ~bad, X->margin);
+      if ((stop && bad) || !(lanes & ~bad)) return bad;
     }
   }
   for (long long pr = 0; pr < m->npair; ++pr) {
-    long long bi = m->pair[2 * pr], bj = m->pair[2 * pr + 1];
-    const double *Wi = B->W + 3 * LANES * bi, *Wj = B->W + 3 * LANES * bj;
-    fill_rad(rad, m->body_sphere[4 * bj + 3] + SLACK);
-    unsigned near = ball_point(Wj, Wj + LANES, Wj + 2 * LANES, rad, Wi, 1, m->body_sphere[4 * bi + 3] + thr)
-                    & lanes & ~bad;
-    for (long long gj = X->gbeg[bj]; gj < X->gbeg[bj + 1] && near; ++gj) {
-      const double *Gj = B->G + 3 * LANES * gj;
-      fill_rad(grad, X->gball[4 * gj + 3] + SLACK);
-      unsigned n1 = ball_point(Gj, Gj + LANES, Gj + 2 * LANES, grad, Wi, 1, m->body_sphere[4 * bi + 3] + thr) & near;
-      for (long long gi = X->gbeg[bi]; gi < X->gbeg[bi + 1] && n1; ++gi) {
-        const double *Gi = B->G + 3 * LANES * gi;
-        unsigned n2 = ball_point(Gj, Gj + LANES, Gj + 2 * LANES, grad, Gi, 1, X->gball[4 * gi + 3] + thr) & n1;
-        for (long long kj = X->cbeg[gj]; kj < X->cbeg[gj + 1] && n2; ++kj)
-          for (long long ki = X->cbeg[gi]; ki < X->cbeg[gi + 1] && n2; ++ki) {
-            unsigned hit = cap_cap_lanes(X, B, X->gcap[ki], X->gcap[kj], n2, thr);
-            bad |= hit;
-            n2 &= ~hit;
-            n1 &= ~hit;
-            near &= ~hit;
-          }
-      }
-    }
-    if (stop && bad) return bad;
+    bad |= pair_lanes(X, B, pr, lanes & ~bad, X->margin);
+    if ((stop && bad) || !(lanes & ~bad)) return bad;
   }
   return bad;
 }
