@@ -105,6 +105,12 @@ def cmd_plan(args, load_robot) -> int:
                seed=args.seed, objective=args.objective, world=world)
     if goal is None:
         goal = res.goal if res.goal is not None else start
+    dense = res.check
+    if res.success and world is not None:
+        # plan() returns its path checked by the proofs alone; the command reports what check-path reports:
+        # the smallest clearance of the dense states and the proof's lower bound along the path
+        from planning.validate import check_path
+        dense = check_path(robot, res.path, ws, args.sigma_min, world=world)
     path_file = robot.chain.from_si(res.path) if res.success else np.zeros((0, robot.n))
     if args.out and res.success:
         write_path_csv(robot, res.path, args.out)
@@ -115,8 +121,8 @@ def cmd_plan(args, load_robot) -> int:
            "proven": res.proven, "checks": None if res.check is None else
            {"windows": res.check.windows_check, "sigma_min": res.check.sigma_check,
             "collisions": res.check.collision_check},
-           "min_clearance": None if res.check is None else finite_or_none(res.check.min_clearance),
-           "clearance_bound": None if res.check is None else finite_or_none(res.check.clearance_bound),
+           "min_clearance": None if dense is None else finite_or_none(dense.min_clearance),
+           "clearance_bound": None if dense is None else finite_or_none(dense.clearance_bound),
            "cell": None if world is None else world.name or args.cell,
            "separation": None if res.separation is None else
            {"joints": list(res.separation.joints), "kind": res.separation.kind, "reason": res.separation.reason},
@@ -144,8 +150,7 @@ def cmd_plan(args, load_robot) -> int:
                   else "windows checked by samples on some segments (the proof could not settle them)")
             if world is not None:
                 print(f"collisions with the cell and the robot itself: {res.check.collision_check}; min clearance "
-                      f"{res.check.min_clearance * 1e3:.4g} mm (proven ≥ "
-                      f"{(res.check.clearance_bound or 0.0) * 1e3:.4g} mm)")
+                      f"{dense.min_clearance * 1e3:.4g} mm (proven ≥ {(dense.clearance_bound or 0.0) * 1e3:.4g} mm)")
             if args.out:
                 print(f"wrote {args.out}")
         elif res.separation is not None:
