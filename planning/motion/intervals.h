@@ -87,7 +87,7 @@ static int interval_exact(const rmt_motion *X, const block *P, int lp, const blo
 static unsigned block_intervals(rmt_motion *X, const block *P, const block *C, double q8, unsigned lanes, int strip)
 {
   const rmt_clear_model *m = X->m;
-  double thr = X->margin, tnext = nextafter(thr, HUGE_VAL);
+  double thr = X->margin, tnext = X->tnext;
   long long nb = m->nbody;
   unsigned open = 0;                              /* lanes not proven */
   double bx[LANES], by[LANES], bz[LANES], brad[LANES];

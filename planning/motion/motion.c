@@ -55,31 +55,58 @@
 #include "intervals.h"
 
 /* ---- per motion --------------------------------------------------------------------------------- */
-/* The per-motion bounds of motion dq: Mc, Mb (curvature of the capsules and the balls, world), Mrel,
-   Mbrel (the same in the frame of each body i: only joints i+1 … move a point relative to body i's frame,
-   so the sums of curvature_bound run over those joints and W counts from joint i+1), Lrel, Lb, Lbrel (the
-   first-order bounds).  Returns the largest first-order bound of a capsule.  With A_j = |dq_j| and W_j the
-   sum of A_l over the revolute l < j,
-     M^(i) = sum_{j >= i} A_j (rev_j ? 2 (W_j - W_i) R_j + T_j : (W_j - W_i)),  T_j = sum_{l >= j} A_l R_l
-           = S1_i - W_i S2_i  with suffix sums S1, S2 (joints 0-based; body i is moved by joints < i). */
-static double motion_bounds(rmt_motion *X, const double *dq)
+/* Joint increments A_j = |dq_j| and W_j, the sum of A_l over the revolute l < j (W has n + 1 entries). */
+RMT_INLINE void increments(const rmt_motion *X, const double *dq, double *A, double *W)
 {
-  long long n = X->n, nb = X->m->nbody, ncap = X->m->ncap, nball = nb + X->ngroup;
-  double A[MAX_JOINTS], W[MAX_JOINTS + 1];
   W[0] = 0.0;
-  for (long long j = 0; j < n; ++j) {
+  for (long long j = 0; j < X->n; ++j) {
     A[j] = fabs(dq[j]);
     W[j + 1] = W[j] + (X->revolute[j] ? A[j] : 0.0);
   }
-  double Lmax = 0.0;
+}
+
+/* The first-order bounds of motion dq: Lb, Lbrel (every point of a ball moves at most this much over the
+   motion, in the world and in each body's frame: sum over the joints that move it relative to that frame
+   of |dq_j| R_j); returns the largest of a capsule (which sets how many states the motion gets). */
+static double first_order(rmt_motion *X, const double *dq)
+{
+  long long n = X->n, nb = X->m->nbody, ncap = X->m->ncap, nball = nb + X->ngroup;
+  double A[MAX_JOINTS], W[MAX_JOINTS + 1], Lmax = 0.0;
+  increments(X, dq, A, W);
+  for (long long c = 0; c < ncap; ++c) {
+    const double *R = X->R + n * c;
+    double L = 0.0;
+    for (long long j = 0; j < n; ++j) L += A[j] * R[j];
+    Lmax = L > Lmax ? L : Lmax;
+  }
+  for (long long k = 0; k < nball; ++k) {
+    const double *R = X->Rb + n * k;
+    double *lrel = X->Lbrel + nb * k, T = 0.0;
+    for (long long i = n; i < nb; ++i) lrel[i] = 0.0;
+    for (long long j = n - 1; j >= 0; --j) { T += A[j] * R[j]; lrel[j] = T; }
+    X->Lb[k] = lrel[0];
+  }
+  return Lmax;
+}
+
+/* The curvature bounds of motion dq (what the intervals' tests need, made only when one is tested): Mc,
+   Mb (the capsules' and the balls' points, world) and Mrel, Mbrel (the same in the frame of each body i:
+   only joints i+1 … move a point relative to body i's frame, so the sums of curvature_bound run over
+   those joints and W counts from joint i+1).  With T_j = sum_{l >= j} A_l R_l,
+     M^(i) = sum_{j >= i} A_j (rev_j ? 2 (W_j - W_i) R_j + T_j : (W_j - W_i)) = S1_i - W_i S2_i
+   with suffix sums S1, S2 (joints 0-based; body i is moved by joints < i). */
+static void curvature(rmt_motion *X, const double *dq)
+{
+  long long n = X->n, nb = X->m->nbody, ncap = X->m->ncap, nball = nb + X->ngroup;
+  double A[MAX_JOINTS], W[MAX_JOINTS + 1];
+  increments(X, dq, A, W);
   for (long long k = 0; k < ncap + nball; ++k) {
     int ball = k >= ncap;
     long long kb = k - ncap;
     const double *R = ball ? X->Rb + n * kb : X->R + n * k;
     double *mrel = ball ? X->Mbrel + nb * kb : X->Mrel + nb * k;
-    double *lrel = ball ? X->Lbrel + nb * kb : X->Lrel + nb * k;
     double T = 0.0, S1 = 0.0, S2 = 0.0;
-    for (long long i = n; i < nb; ++i) mrel[i] = lrel[i] = 0.0;
+    for (long long i = n; i < nb; ++i) mrel[i] = 0.0;
     for (long long j = n - 1; j >= 0; --j) {
       T += A[j] * R[j];
       if (R[j] > 0.0) {
@@ -88,13 +115,10 @@ static double motion_bounds(rmt_motion *X, const double *dq)
       }
       double v = S1 - W[j] * S2;                 /* in the frame of body j (moved by joints < j) */
       mrel[j] = v > 0.0 ? v : 0.0;
-      lrel[j] = T;                               /* sum over l >= j of |dq_l| R_l */
     }
-    if (ball) { X->Mb[kb] = mrel[0]; X->Lb[kb] = lrel[0]; continue; }
-    X->Mc[k] = mrel[0];
-    if (lrel[0] > Lmax) Lmax = lrel[0];
+    if (ball) X->Mb[kb] = mrel[0];
+    else X->Mc[k] = mrel[0];
   }
-  return Lmax;
 }
 
 RMT_INLINE int q_ok(const rmt_motion *X, const double *q)
@@ -113,35 +137,41 @@ RMT_INLINE int in_limits(const rmt_motion *X, const double *q)
   return 1;
 }
 
-/* The strips (eighths of the motion, one per lane) on which each body–primitive pair and each checked
-   body pair is proven clear from the states at the strips' ends alone, into X->omask and X->pmask (a bit
-   set: left to the intervals' tests); returns the strips with anything left.  A distance changes at most
-   as fast as the points move: over the whole motion L (the body ball's first-order bound against
-   obstacles; that of the upper body's ball in the lower body's frame against another body), so over a
-   strip it stays above the margin when it is above L / 16 + margin at both ends.  B0 holds the strips'
-   starts (lanes 0 … 7), E the motion's end (lane 0). */
-static unsigned strip_culls(rmt_motion *X, const block *B0, const block *E)
+/* The first block: states at t = l / STRIPS (lanes 0 … 7: the motion's two ends and six states between,
+   the strips' ends).  Which of them are in collision goes into *coll (with `stop`, the search ends at the
+   first); which body–primitive pairs and body pairs are proven clear on which strips from those ends
+   alone, into X->omask and X->pmask (a bit set: left to the intervals' tests); returns the strips with
+   anything left.  A distance changes at most as fast as the points move: over the whole motion L (the
+   body ball's first-order bound against obstacles; that of the upper body's ball in the lower body's
+   frame against another body), so over a strip it stays above the margin when it is above
+   L / (2 STRIPS) + margin at both ends — and where it is not, the state is tested against the margin. */
+static unsigned first_block(rmt_motion *X, const block *B0, unsigned *coll, int stop)
 {
   const rmt_clear_model *m = X->m;
   long long np = m->nprim, nb = m->nbody;
   unsigned open = 0;
+  *coll = 0;
   for (long long b = 0; b <= m->last; ++b) {
     if (m->body_cap[b] == m->body_cap[b + 1]) continue;
-    double need = X->Lb[b] / (2 * LANES) + X->margin + 2.0 * SLACK;
+    double need = X->Lb[b] / (2 * STRIPS) + X->margin + 2.0 * SLACK;
     for (long long p = 0; p < np; ++p) {
-      unsigned ends = body_prim_lanes(X, B0, b, p, ALL_LANES, need) | body_prim_lanes(X, E, b, p, 1u, need) << LANES;
-      unsigned om = (ends | ends >> 1) & ALL_LANES;      /* strip l: its start (bit l) or end (bit l + 1) near */
+      unsigned near = body_prim_lanes(X, B0, b, p, ALL_LANES, need);
+      unsigned om = (near | near >> 1) & STRIP_LANES;   /* strip l: its start (bit l) or end (bit l + 1) near */
       X->omask[np * b + p] = om;
       open |= om;
+      if (near & ~*coll) *coll |= body_prim_lanes(X, B0, b, p, near & ~*coll, X->margin);
+      if (stop && *coll) return open;
     }
   }
   for (long long pr = 0; pr < m->npair; ++pr) {
     long long bi = m->pair[2 * pr], bj = m->pair[2 * pr + 1];
-    double need = X->Lbrel[nb * bj + bi] / (2 * LANES) + X->margin + 2.0 * SLACK;
-    unsigned ends = pair_lanes(X, B0, pr, ALL_LANES, need) | pair_lanes(X, E, pr, 1u, need) << LANES;
-    unsigned pm = (ends | ends >> 1) & ALL_LANES;
+    double need = X->Lbrel[nb * bj + bi] / (2 * STRIPS) + X->margin + 2.0 * SLACK;
+    unsigned near = pair_lanes(X, B0, pr, ALL_LANES, need);
+    unsigned pm = (near | near >> 1) & STRIP_LANES;
     X->pmask[pr] = pm;
     open |= pm;
+    if (near & ~*coll) *coll |= pair_lanes(X, B0, pr, near & ~*coll, X->margin);
+    if (stop && *coll) return open;
   }
   return open;
 }
@@ -212,11 +242,11 @@ RMT_INLINE void note(rmt_motion_result *best, int status, double t)
 /* ---- entry points ----------------------------------------------------------------------------------- */
 /* Check the motion a -> b (n each) into r (status: RMT_MOTION_*).
 
-   S blocks of LANES states: lane l walks the l-th eighth ("strip") of the motion, its states
-   l (S - 1) + 0 … S - 1 of K = LANES (S - 1) intervals, K from the first-order bound and `step`.  The first
-   block (t = l / 8) and the motion's end are tested as states — most invalid motions are refuted there —
-   and strip_culls proves what it can of each strip from those ends; the intervals of every later block
-   are tested only for the pairs left open on their strip, and an interval that is not proven is cut
+   S blocks of LANES states: lane l < STRIPS walks the l-th seventh ("strip") of the motion, its states
+   l (S - 1) + 0 … S - 1 of K = STRIPS (S - 1) intervals, K from the first-order bound and `step`; lane 7
+   holds the motion's end.  The first block (t = l / 7) is tested as states — most invalid motions are
+   refuted there — and first_block proves what it can of each strip from its ends; the intervals of every
+   later block are tested only for the pairs left open on their strip, and an interval that is not proven is cut
    into eight, again and again (refine).  When nothing is left open after the first block, the motion is
    proven without placing another state.  ordered: every interval is looked at and the violation reported
    is the earliest along the motion; bound: every interval is measured (interval_exact), r->bound a proven
@@ -234,46 +264,43 @@ int rmt_motion_check(rmt_motion *X, const double *a, const double *b, int ordere
   if (tw == tw) { r->t = tw; return r->status = RMT_MOTION_WINDOW; }
   const rmt_clear_model *m = X->m;
   if (m == NULL || m->ncap == 0) return r->status;
-  double need = ceil(motion_bounds(X, dq) / X->step);
-  long long S = (long long)(need / LANES) + 2;
+  double need = ceil(first_order(X, dq) / X->step);
+  long long S = (long long)(need / STRIPS) + 2;
   long long most = X->max_states / LANES;
   if (S > most) S = most < 2 ? 2 : most;
-  double K = (double)(LANES * (S - 1)), h = 1.0 / K, q8 = 0.125 * h * h;
+  double K = (double)(STRIPS * (S - 1)), h = 1.0 / K, q8 = 0.125 * h * h;
   double *lb = bound ? &r->bound : NULL;
   X->ordered = ordered || bound;
   rmt_motion_result best = { RMT_MOTION_CLEAR, NAN, 0, 0, HUGE_VAL };
-  block *B0 = X->blk, *E = &X->one, *prev = B0;
-  for (int l = 0; l < LANES; ++l) B0->t[l] = (double)(l * (S - 1)) / K;
+  block *B0 = X->blk, *prev = B0;
+  for (int l = 0; l < LANES; ++l) B0->t[l] = l < STRIPS ? (double)(l * (S - 1)) / K : 1.0;
   place_states(X, a, dq, B0);
-  place_one(X, b, 1.0, E);
-  r->evals += LANES + 1;
-  r->states = LANES * (S - 1) + 1;
-  unsigned coll = block_collisions(X, B0, ALL_LANES, !X->ordered);
+  r->evals += STRIPS + 1;
+  r->states = STRIPS * (S - 1) + 1;
+  unsigned coll;
+  unsigned open = first_block(X, B0, &coll, !X->ordered);
   if (coll && !X->ordered) { r->t = B0->t[__builtin_ctz(coll)]; return r->status = RMT_MOTION_COLLISION; }
   for (int k = 0; k < LANES; ++k) if ((coll >> k) & 1) note(&best, RMT_MOTION_COLLISION, B0->t[k]);
-  if (block_collisions(X, E, 1u, 1)) {
-    if (!X->ordered) { r->t = 1.0; return r->status = RMT_MOTION_COLLISION; }
-    note(&best, RMT_MOTION_COLLISION, 1.0);
-  }
-  unsigned open = ALL_LANES;
+  if (open || bound) curvature(X, dq);
   if (bound) {
-    for (long long p = 0; p < m->npair; ++p) X->pmask[p] = ALL_LANES;
-    for (long long k = 0; k < m->nbody * m->nprim; ++k) X->omask[k] = ALL_LANES;
-  } else open = strip_culls(X, B0, E);
+    open = STRIP_LANES;
+    for (long long p = 0; p < m->npair; ++p) X->pmask[p] = STRIP_LANES;
+    for (long long k = 0; k < m->nbody * m->nprim; ++k) X->omask[k] = STRIP_LANES;
+  }
   for (long long bk = 1; bk < S && open; ++bk) {
     block *cur = X->blk + 1 + (bk & 1);
-    for (int l = 0; l < LANES; ++l) cur->t[l] = (double)(l * (S - 1) + bk) / K;
+    for (int l = 0; l < LANES; ++l) cur->t[l] = l < STRIPS ? (double)(l * (S - 1) + bk) / K : 1.0;
     place_states(X, a, dq, cur);
-    r->evals += LANES;
+    r->evals += STRIPS;
     unsigned bad = 0;
     if (lb) {
-      for (int l = 0; l < LANES; ++l) {
+      for (int l = 0; l < STRIPS; ++l) {
         double least;
         if (!interval_exact(X, prev, l, cur, l, q8, &least)) bad |= 1u << l;
         else if (least < *lb) *lb = least;
       }
     } else bad = block_intervals(X, prev, cur, q8, open, -1);
-    for (int l = 0; l < LANES && bad; ++l) {
+    for (int l = 0; l < STRIPS && bad; ++l) {
       if (!((bad >> l) & 1)) continue;
       if (best.status != RMT_MOTION_CLEAR && best.t <= prev->t[l]) continue;
       rmt_motion_result sub = *r;
@@ -330,7 +357,7 @@ rmt_motion *rmt_motion_new(const rmt_clear_model *m, long long n, double margin,
     return NULL;
   rmt_motion *X = (rmt_motion *)calloc(1, sizeof(rmt_motion));
   if (X == NULL) return NULL;
-  X->m = m; X->n = n; X->margin = margin; X->lower = lower; X->upper = upper; X->R = R; X->Rb = Rb;
+  X->m = m; X->n = n; X->margin = margin; X->tnext = nextafter(margin, HUGE_VAL); X->lower = lower; X->upper = upper; X->R = R; X->Rb = Rb;
   X->revolute = revolute; X->nwin = nwin; X->win = win; X->step = step; X->cap = cap;
   X->ngroup = ngroup; X->gbeg = gbeg; X->cbeg = cbeg; X->gcap = gcap; X->gball = gball;
   X->max_states = max_states; X->max_depth = max_depth; X->max_evals = max_evals;
@@ -352,7 +379,6 @@ rmt_motion *rmt_motion_new(const rmt_clear_model *m, long long n, double margin,
   double *p = X->mem;
   X->Mc = p; p += nc;
   X->Mrel = p; p += nc * nb;
-  X->Lrel = p; p += nc * nb;
   X->Mb = p; p += nball;
   X->Lb = p; p += nball;
   X->Mbrel = p; p += nball * nb;

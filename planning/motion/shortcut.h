@@ -6,7 +6,8 @@
      (the rows in between go);
    * shortcut: two points drawn at random along the path's length (on different segments) are joined by
      a straight motion when it is proven and shorter than the path between them; the draws stop after
-     `tries` attempts or `patience` failures in a row, and reduce runs again.
+     `tries` attempts or `patience` failures in a row (both at most a few per row left after reduce: a
+     path of three rows has little to gain), and reduce runs again.
 
    Lengths are Euclidean in joint space (what rmtkit and VAMP call a path's length).  The random draws
    come from a splitmix64 generator seeded by the caller: the same seed and path give the same result. */
@@ -65,6 +66,8 @@ long long rmt_motion_shortcut(rmt_motion *X, double *P, long long M, long long c
   if (cap > MAX_ROWS) cap = MAX_ROWS;
   if (M < 3 || M > cap) return M;
   M = reduce_rows(X, P, M, checks);
+  if (tries > 4 * M + 4) tries = 4 * M + 4;
+  if (patience > 2 * M + 2) patience = 2 * M + 2;
   unsigned long long s = seed;
   double L[MAX_ROWS];
   long long fails = 0;

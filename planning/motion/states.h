@@ -12,7 +12,7 @@ RMT_INLINE void fill_rad(double *rad, double r)
 
 /* the lanes of `cand` where capsule c is not clear of primitive p (thr: the margin, tnext: the next double) */
 static unsigned cap_prim_lanes(const rmt_motion *X, const block *B, long long c, long long p, unsigned cand,
-                               double thr, double tnext)
+                               double thr)
 {
   const rmt_clear_model *m = X->m;
   const double *P = m->prim + RMT_PRIM_STRIDE * p;
@@ -20,6 +20,7 @@ static unsigned cap_prim_lanes(const rmt_motion *X, const block *B, long long c,
   wcap w;
   unsigned hit = 0;
   if (kind == RMT_PRIM_SET) {
+    double tnext = nextafter(thr, HUGE_VAL);
     for (int l = 0; l < LANES; ++l) {
       if (!((cand >> l) & 1)) continue;
       long long h;
@@ -32,7 +33,8 @@ static unsigned cap_prim_lanes(const rmt_motion *X, const block *B, long long c,
   double cx[LANES], cy[LANES], cz[LANES], rad[LANES];
   fill_rad(rad, cap_balls(m, B, c, cx, cy, cz) + SLACK);
   hit = ball_prim(P, kind, cx, cy, cz, rad, thr) & cand;
-  if (m->cap[RMT_CAP_STRIDE * c + 7] == 0.0) return hit;         /* a ball: its ball test is exact */
+  if (m->cap[RMT_CAP_STRIDE * c + 7] == 0.0 || !hit) return hit;   /* a ball: its ball test is exact */
+  double tnext = nextafter(thr, HUGE_VAL);
   for (int l = 0; l < LANES && hit; ++l) {
     if (!((hit >> l) & 1)) continue;
     cap_of(m, B, l, c, &w);
@@ -72,7 +74,7 @@ static unsigned body_prim_lanes(const rmt_motion *X, const block *B, long long b
   if ((m->prim_int[4 * p + 3] >> b) & 1) return 0;
   const double *P = m->prim + RMT_PRIM_STRIDE * p, *Wb = B->W + 3 * LANES * b;
   long long kind = m->prim_int[4 * p];
-  double rad[LANES], grad[LANES], tnext = nextafter(thr, HUGE_VAL);
+  double rad[LANES], grad[LANES];
   fill_rad(rad, m->body_sphere[4 * b + 3] + SLACK);
   unsigned near = ball_bound(P, Wb, Wb + LANES, Wb + 2 * LANES, rad, thr) & lanes, hit = 0;
   for (long long g = X->gbeg[b]; g < X->gbeg[b + 1] && near; ++g) {
@@ -81,7 +83,7 @@ static unsigned body_prim_lanes(const rmt_motion *X, const block *B, long long b
     unsigned gn = (kind == RMT_PRIM_SET ? ball_bound(P, Gg, Gg + LANES, Gg + 2 * LANES, grad, thr)
                                         : ball_prim(P, kind, Gg, Gg + LANES, Gg + 2 * LANES, grad, thr)) & near;
     for (long long k = X->cbeg[g]; k < X->cbeg[g + 1] && gn; ++k) {
-      unsigned h = cap_prim_lanes(X, B, X->gcap[k], p, gn, thr, tnext);
+      unsigned h = cap_prim_lanes(X, B, X->gcap[k], p, gn, thr);
       hit |= h;
       gn &= ~h;
       near &= ~h;

@@ -11,6 +11,8 @@
 #define SLACK 1e-9        /* m added to every swept radius: the placed points' rounding is ~1e-15 m */
 #define MAX_DEPTH_CAP 12  /* eightfold cuts of an interval at most (8^-12 of it) */
 #define ALL_LANES ((1u << LANES) - 1u)
+#define STRIPS (LANES - 1)          /* the first block's states cut a motion into seven strips */
+#define STRIP_LANES ((1u << STRIPS) - 1u)
 #define MAX_JOINTS 63
 
 /* outcome of a check (status) */
@@ -51,9 +53,10 @@ typedef struct {
   int max_depth;             /* eightfold cuts of an interval */
   long long max_evals;       /* most states placed for one motion, refinement included */
   int ordered;               /* the current check's mode */
+  double tnext;              /* the double after the margin (a distance below it is not clear) */
   /* per motion (motion_bounds) */
   double *Mc;                /* ncap: curvature bound of the capsules' points (world) */
-  double *Mrel, *Lrel;       /* ncap × nbody: curvature and first-order bounds in each body's frame */
+  double *Mrel;              /* ncap × nbody: curvature bound in each body's frame */
   double *Mb, *Lb;           /* nball = nbody + ngroup: the same for the balls (world) */
   double *Mbrel, *Lbrel;     /* nball × nbody: ... in each body's frame */
   unsigned *pmask;           /* npair: the strips (lanes) where a body pair is not proven from its ends */

@@ -59,6 +59,7 @@ SINGULARITY_SCALE = 0.01
 MAX_COST_STATES = 50_000
 #: default_range: how far (in chain lengths) one edge may move a point of the robot
 RANGE_REACH = 2.0
+_RANGES: dict = {}          # default_range per robot (chain, geometry, value), by identity
 
 
 def planner_class(name: str):
@@ -333,14 +334,20 @@ def default_range(robot) -> float:
     (:func:`kin.geometry.chain_length`).  OMPL's own default, a fifth of the joint space's diagonal, makes
     edges of several radians that mostly end in collision; this gives 1.1 for the Panda and 1.5 for the UR5
     (the values VAMP tuned by hand: 1.0 and 1.5)."""
+    key = (id(robot.chain), id(robot.geometry))
+    hit = _RANGES.get(key)
+    if hit is not None and hit[0] is robot.chain and hit[1] is robot.geometry:
+        return hit[2]
     from kin.geometry import chain_length
     from kin.geometry.motion import capsule_radii
     R = capsule_radii(robot.chain, robot.geometry)
     worst = float(np.linalg.norm(R, axis=1).max()) if len(R) else 0.0
     length = chain_length(robot.chain)
-    if not (worst > 0 and length > 0):
-        return 1.0
-    return RANGE_REACH * length / worst
+    value = RANGE_REACH * length / worst if worst > 0 and length > 0 else 1.0
+    if len(_RANGES) > 64:
+        _RANGES.clear()
+    _RANGES[key] = (robot.chain, robot.geometry, value)
+    return value
 
 
 def _solve(robot, cls, checker: JointSpaceChecker, start_q, goal_q, time_limit, seed, objective, simplify,
