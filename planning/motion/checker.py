@@ -40,12 +40,13 @@ SOURCE = Path(__file__).resolve().with_name("motion.c")
 CLEARANCE_DIR = Path(__file__).resolve().parents[2] / "kin" / "geometry"
 #: m: the most any point of the robot moves (first-order bound) between two placed states of a motion
 DEFAULT_STEP = 0.1
-#: eightfold cuts of an interval between two placed states before it is left unproven (8⁻⁸ of it)
-MAX_DEPTH = 8
+#: eightfold cuts of an interval between two placed states before it is left unproven (8⁻⁷ of it)
+MAX_DEPTH = 7
 #: most states placed in a motion's first pass (longer motions get wider intervals)
 MAX_STATES = 4096
-#: most states placed for one motion, refinement included
-MAX_EVALS = 200_000
+#: most states placed for one motion, refinement included (a motion that grazes its margin tangentially
+#: can never be proven; this bounds what trying costs)
+MAX_EVALS = 20_000
 #: capsules per group of the hierarchy body ball → group balls → capsules
 GROUP_SIZE = 4
 #: random shortcuts tried at most, and failures in a row after which shortening stops

@@ -74,3 +74,60 @@ def _point_segment(p, a, b) -> float:
     L = d @ d
     t = 0.0 if L == 0 else float(np.clip((p - a) @ d / L, 0, 1))
     return float(np.linalg.norm(a + t * d - p))
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_no_capsule_point_moves_faster_than_its_own_bound(name):
+    """capsule_radii: the per-capsule bound holds for every point of the capsule's segment (central
+    differences of the body frames at random configurations and directions), and is never larger than
+    the body's (reach_radii)."""
+    from kin.geometry.motion import capsule_radii
+    robot = kin.load_robot(name)
+    chain, geo = robot.chain, robot.geometry
+    C, R = capsule_radii(chain, geo), reach_radii(chain, geo)
+    rng = np.random.default_rng(11)
+    Q = rng.uniform(chain.lower, chain.upper, size=(200, chain.n))
+    E = rng.normal(size=(200, chain.n))
+    E /= np.linalg.norm(E, axis=1, keepdims=True)
+    h = 1e-6
+    Fp, Fm = body_frames(chain, Q + h * E), body_frames(chain, Q - h * E)
+    for k, c in enumerate(geo.capsules):
+        assert np.all(C[k] <= R[:, c.body] + 1e-12)
+        bound = np.abs(E) @ C[k]
+        for s in (0.0, 0.5, 1.0):
+            p = np.array([*(np.add(c.a, s * np.subtract(c.b, c.a))), 1.0])
+            speed = np.linalg.norm((Fp[:, c.body] - Fm[:, c.body]) @ p, axis=1) / (2 * h)
+            assert np.all(speed <= bound * (1 + 1e-6) + 1e-9), f"{name}: {c.name} at {s} moves faster than its bound"
+
+
+@pytest.mark.parametrize("name", ["franka_panda", "ur5e", "puma560", "cnc_rrrppp", "stanford_arm", "scara_rrp",
+                                  "kuka_iiwa14"])
+def test_points_stay_within_the_curvature_bound_of_their_chords(name):
+    """curvature_bound: along random straight joint motions, every capsule point stays within
+    (t − t0)(t1 − t)/2 · M of the chord between its positions at t0 and t1 (checked on a fine grid of
+    the whole motion, t0 = 0, t1 = 1), and M bounds a central second difference of the point's path."""
+    from kin.geometry.motion import capsule_radii, curvature_bound
+    robot = kin.load_robot(name)
+    chain, geo = robot.chain, robot.geometry
+    C = capsule_radii(chain, geo)
+    rng = np.random.default_rng(5)
+    ts = np.linspace(0.0, 1.0, 401)
+    tight = 0.0
+    for _ in range(12):
+        a, b = rng.uniform(chain.lower, chain.upper, size=(2, chain.n))
+        b = a + rng.uniform(0.05, 1.0) * (b - a)
+        M = curvature_bound(C, b - a, chain.revolute_mask)
+        F = body_frames(chain, a + ts[:, None] * (b - a))
+        for k, c in enumerate(geo.capsules):
+            for s in (0.0, 1.0):
+                p = np.array([*(np.add(c.a, s * np.subtract(c.b, c.a))), 1.0])
+                P = F[:, c.body] @ p                                     # (T, 4)
+                chord = P[0] + ts[:, None] * (P[-1] - P[0])
+                dev = np.linalg.norm((P - chord)[:, :3], axis=1)
+                allowed = ts * (1 - ts) / 2 * M[k]
+                assert np.all(dev <= allowed * (1 + 1e-9) + 1e-12), f"{name}: {c.name} leaves its chord's bound"
+                d2 = np.linalg.norm((P[2:] - 2 * P[1:-1] + P[:-2])[:, :3], axis=1) / (ts[1] - ts[0]) ** 2
+                assert np.all(d2 <= M[k] * (1 + 1e-6) + 1e-6)
+                if M[k] > 0:
+                    tight = max(tight, float(d2.max() / M[k]))
+    assert tight > 0.02, "the curvature bound is so loose that proofs would cut intervals needlessly"
