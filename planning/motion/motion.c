@@ -151,6 +151,10 @@ static unsigned first_block(rmt_motion *X, const block *B0, unsigned *coll, int 
   long long np = m->nprim, nb = m->nbody;
   unsigned open = 0;
   *coll = 0;
+  if (stop && X->hint != NO_HINT) {         /* the pair that collided last, first */
+    *coll = code_lanes(X, B0, X->hint, ALL_LANES, X->margin);
+    if (*coll) return 0;
+  }
   for (long long b = 0; b <= m->last; ++b) {
     if (m->body_cap[b] == m->body_cap[b + 1]) continue;
     double need = X->Lb[b] / (2 * STRIPS) + X->margin + 2.0 * SLACK;
@@ -159,7 +163,10 @@ static unsigned first_block(rmt_motion *X, const block *B0, unsigned *coll, int 
       unsigned om = (near | near >> 1) & STRIP_LANES;   /* strip l: its start (bit l) or end (bit l + 1) near */
       X->omask[np * b + p] = om;
       open |= om;
-      if (near & ~*coll) *coll |= body_prim_lanes(X, B0, b, p, near & ~*coll, X->margin);
+      if (near & ~*coll) {
+        unsigned h = body_prim_lanes(X, B0, b, p, near & ~*coll, X->margin);
+        if (h) { *coll |= h; X->hint = b * np + p; }
+      }
       if (stop && *coll) return open;
     }
   }
@@ -170,7 +177,10 @@ static unsigned first_block(rmt_motion *X, const block *B0, unsigned *coll, int 
     unsigned pm = (near | near >> 1) & STRIP_LANES;
     X->pmask[pr] = pm;
     open |= pm;
-    if (near & ~*coll) *coll |= pair_lanes(X, B0, pr, near & ~*coll, X->margin);
+    if (near & ~*coll) {
+      unsigned h = pair_lanes(X, B0, pr, near & ~*coll, X->margin);
+      if (h) { *coll |= h; X->hint = -1 - pr; }
+    }
     if (stop && *coll) return open;
   }
   return open;
@@ -357,7 +367,7 @@ rmt_motion *rmt_motion_new(const rmt_clear_model *m, long long n, double margin,
     return NULL;
   rmt_motion *X = (rmt_motion *)calloc(1, sizeof(rmt_motion));
   if (X == NULL) return NULL;
-  X->m = m; X->n = n; X->margin = margin; X->tnext = nextafter(margin, HUGE_VAL); X->lower = lower; X->upper = upper; X->R = R; X->Rb = Rb;
+  X->m = m; X->n = n; X->margin = margin; X->tnext = nextafter(margin, HUGE_VAL); X->hint = NO_HINT; X->lower = lower; X->upper = upper; X->R = R; X->Rb = Rb;
   X->revolute = revolute; X->nwin = nwin; X->win = win; X->step = step; X->cap = cap;
   X->ngroup = ngroup; X->gbeg = gbeg; X->cbeg = cbeg; X->gcap = gcap; X->gball = gball;
   X->max_states = max_states; X->max_depth = max_depth; X->max_evals = max_evals;

@@ -123,21 +123,37 @@ static unsigned pair_lanes(const rmt_motion *X, const block *B, long long pr, un
   return hit;
 }
 
+/* the lanes of `lanes` where the pair `code` (b · nprim + p for body b against primitive p, −1 − pr for
+   body pair pr) comes within thr */
+static unsigned code_lanes(const rmt_motion *X, const block *B, long long code, unsigned lanes, double thr)
+{
+  const rmt_clear_model *m = X->m;
+  if (code >= 0) return body_prim_lanes(X, B, code / m->nprim, code % m->nprim, lanes, thr);
+  return pair_lanes(X, B, -1 - code, lanes, thr);
+}
+
 /* the lanes (bits) of `lanes` in block B whose state is not clear by the margin (exact per lane); with
-   `stop`, returns as soon as one is found */
-static unsigned block_collisions(const rmt_motion *X, const block *B, unsigned lanes, int stop)
+   `stop`, returns as soon as one is found — trying first the pair that collided last (X->hint: random
+   samples and the motions of a planner keep running into the same obstacle) */
+static unsigned block_collisions(rmt_motion *X, const block *B, unsigned lanes, int stop)
 {
   const rmt_clear_model *m = X->m;
   unsigned bad = 0;
+  if (stop && X->hint != NO_HINT) {
+    bad = code_lanes(X, B, X->hint, lanes, X->margin);
+    if (bad) return bad;
+  }
   for (long long b = 0; b <= m->last; ++b) {
     if (m->body_cap[b] == m->body_cap[b + 1]) continue;
     for (long long p = 0; p < m->nprim; ++p) {
-      bad |= body_prim_lanes(X, B, b, p, lanes & ~bad, X->margin);
+      unsigned h = body_prim_lanes(X, B, b, p, lanes & ~bad, X->margin);
+      if (h) { bad |= h; X->hint = b * m->nprim + p; }
       if ((stop && bad) || !(lanes & ~bad)) return bad;
     }
   }
   for (long long pr = 0; pr < m->npair; ++pr) {
-    bad |= pair_lanes(X, B, pr, lanes & ~bad, X->margin);
+    unsigned h = pair_lanes(X, B, pr, lanes & ~bad, X->margin);
+    if (h) { bad |= h; X->hint = -1 - pr; }
     if ((stop && bad) || !(lanes & ~bad)) return bad;
   }
   return bad;
