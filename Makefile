@@ -36,6 +36,7 @@ bench: $(STAMP)
 	$(BIN)/python -m studies.benchmarks.bench_plan
 	$(BIN)/python -m studies.benchmarks.bench_collision
 	$(BIN)/python -m studies.benchmarks.bench_cell_plan
+	$(BIN)/python -m studies.benchmarks.bench_mbm
 	$(BIN)/python -m studies.benchmarks.bench_startup
 	$(BIN)/python -m studies.benchmarks.bench_timing
 	$(BIN)/python -m studies.benchmarks.bench_waypoints

@@ -28,6 +28,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+import kin.geometry as kin_geometry
 from kin.errors import CompileError
 from kin.geometry.motion import _walks, capsule_radii
 from kin.native import build_with_extension, find_compiler
@@ -37,7 +38,8 @@ __all__ = ["MotionChecker", "MotionCheck", "available", "checker_for", "groups",
            "MAX_EVALS", "MAX_STATES"]
 
 SOURCE = Path(__file__).resolve().with_name("motion.c")
-CLEARANCE_DIR = Path(__file__).resolve().parents[2] / "kin" / "geometry"
+#: the clearance kernel's folder (motion.c includes clearance.c and clearance.h from it)
+CLEARANCE_DIR = Path(kin_geometry.__file__).resolve().parent
 #: m: the most any point of the robot moves (first-order bound) between two placed states of a motion
 DEFAULT_STEP = 0.1
 #: eightfold cuts of an interval between two placed states before it is left unproven (8⁻⁷ of it)
