@@ -155,11 +155,17 @@ static unsigned first_block(rmt_motion *X, const block *B0, unsigned *coll, int 
     *coll = code_lanes(X, B0, X->hint, ALL_LANES, X->margin);
     if (*coll) return 0;
   }
+  double rad[LANES];
   for (long long b = 0; b <= m->last; ++b) {
     if (m->body_cap[b] == m->body_cap[b + 1]) continue;
     double need = X->Lb[b] / (2 * STRIPS) + X->margin + 2.0 * SLACK;
+    const double *Wb = B0->W + 3 * LANES * b;
+    fill_rad(rad, m->body_sphere[4 * b + 3] + SLACK);
     for (long long p = 0; p < np; ++p) {
-      unsigned near = body_prim_lanes(X, B0, b, p, ALL_LANES, need);
+      if ((m->prim_int[4 * p + 3] >> b) & 1) { X->omask[np * b + p] = 0; continue; }
+      /* the body's ball (a lower bound of every capsule's distance) decides the strips: cheap, and
+         what it leaves open the intervals' tests settle with tighter balls */
+      unsigned near = ball_bound(m->prim + RMT_PRIM_STRIDE * p, Wb, Wb + LANES, Wb + 2 * LANES, rad, need);
       unsigned om = (near | near >> 1) & STRIP_LANES;   /* strip l: its start (bit l) or end (bit l + 1) near */
       X->omask[np * b + p] = om;
       open |= om;
@@ -173,7 +179,10 @@ static unsigned first_block(rmt_motion *X, const block *B0, unsigned *coll, int 
   for (long long pr = 0; pr < m->npair; ++pr) {
     long long bi = m->pair[2 * pr], bj = m->pair[2 * pr + 1];
     double need = X->Lbrel[nb * bj + bi] / (2 * STRIPS) + X->margin + 2.0 * SLACK;
-    unsigned near = pair_lanes(X, B0, pr, ALL_LANES, need);
+    const double *Wi = B0->W + 3 * LANES * bi, *Wj = B0->W + 3 * LANES * bj;
+    fill_rad(rad, m->body_sphere[4 * bj + 3] + SLACK);
+    unsigned near = ball_point(Wj, Wj + LANES, Wj + 2 * LANES, rad, Wi, 1, m->body_sphere[4 * bi + 3] + need);
+    if (near) near = pair_lanes(X, B0, pr, near, need);    /* near pairs: their groups and capsules */
     unsigned pm = (near | near >> 1) & STRIP_LANES;
     X->pmask[pr] = pm;
     open |= pm;
