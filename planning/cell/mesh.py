@@ -18,7 +18,7 @@ import numpy as np
 
 from planning.errors import CellError
 
-__all__ = ["MESH_SUFFIXES", "MAX_FILE_BYTES", "MAX_TRIANGLES", "read_bytes", "load_mesh"]
+__all__ = ["MESH_SUFFIXES", "MAX_FILE_BYTES", "MAX_TRIANGLES", "read_bytes", "load_mesh", "mesh_suffix"]
 
 MESH_SUFFIXES = (".stl", ".obj", ".ply")
 MAX_FILE_BYTES = 50 * 2**20
@@ -70,6 +70,15 @@ def _count_triangles(data: bytes, suffix: str, label: str, name: str) -> int:
     return ply_header(data, label, name).get("face", 0)
 
 
+def mesh_suffix(path: Path, label: str) -> str:
+    """The suffix of a mesh file, one of :data:`MESH_SUFFIXES` (else a :class:`CellError`)."""
+    suffix = Path(path).suffix.lower()
+    if suffix not in MESH_SUFFIXES:
+        raise CellError(f"{label}: {Path(path).name}: mesh files must be "
+                        f"{', '.join(s[1:].upper() for s in MESH_SUFFIXES)} (suffix {', '.join(MESH_SUFFIXES)})")
+    return suffix
+
+
 def load_mesh(path: str | Path, label: str = "mesh") -> np.ndarray:
     """The triangles of a mesh file: (m, 3, 3) float64, in the file's own units.
 
@@ -78,10 +87,7 @@ def load_mesh(path: str | Path, label: str = "mesh") -> np.ndarray:
     with finite vertices.
     """
     path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix not in MESH_SUFFIXES:
-        raise CellError(f"{label}: {path.name}: mesh files must be {', '.join(s[1:].upper() for s in MESH_SUFFIXES)} "
-                        f"(suffix {', '.join(MESH_SUFFIXES)})")
+    suffix = mesh_suffix(path, label)
     data = read_bytes(path, label, "mesh")
     if suffix == ".ply":
         counts = ply_header(data, label, path.name)

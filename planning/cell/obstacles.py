@@ -24,10 +24,11 @@ import numpy as np
 
 from kin.chain import LENGTH_UNITS
 from kin.geometry import Obstacle, Shape
+from planning.cell.cache import cache_key, cached
 from planning.cell.enclose import enclose_points, enclose_triangles
 from planning.cell.fields import MAX_LENGTH, Table, check_keys, is_num
-from planning.cell.mesh import MAX_TRIANGLES, load_mesh
-from planning.cell.points import load_points
+from planning.cell.mesh import MAX_TRIANGLES, load_mesh, mesh_suffix, read_bytes
+from planning.cell.points import POINT_SUFFIXES, load_points
 from planning.errors import CellError
 
 __all__ = ["OBSTACLE_TYPES", "PART_TYPES", "MAX_PARTS", "MAX_VERTICES", "MAX_SPHERES", "DEFAULT_MAX_SPHERES",
@@ -149,14 +150,30 @@ def _mesh(f: Table, pose: np.ndarray, base_dir: Path, budget) -> _Piece:
         if "vertices" in f.t or "triangles" in f.t:
             raise f.fail("file", "a mesh is a file or vertices and triangles, not both")
         path = _file(f, base_dir)
-        T, source = load_mesh(path, f"{f.label}: file"), path.name
+        mesh_suffix(path, f"{f.label}: file")
+        data, source = read_bytes(path, f"{f.label}: file", "mesh"), path.name
+        key = cache_key("mesh" + path.suffix.lower(), data, scale, pose, [tol, ms])
+        read = lambda: load_mesh(path, f"{f.label}: file")      # noqa: E731
     else:
-        T, source = _inline_triangles(f), "vertices and triangles"
-    budget.take(len(T), f.label)
-    T = _place(T.reshape(-1, 3) * scale, pose, f, source).reshape(-1, 3, 3)
-    cover = enclose_triangles(T, tol, ms)
-    return _Piece([], cover.spheres, cover.over_estimate, f"{source}: {len(T)} triangles in {len(cover.spheres)} "
-                  f"spheres", T)
+        T0, source = _inline_triangles(f), "vertices and triangles"
+        key = cache_key("mesh", np.ascontiguousarray(T0).tobytes(), scale, pose, [tol, ms])
+        read = lambda: T0                                         # noqa: E731
+
+    taken = []
+
+    def compute():
+        T = read()
+        budget.take(len(T), f.label)                    # before the work it bounds
+        taken.append(True)
+        T = _place(T.reshape(-1, 3) * scale, pose, f, source).reshape(-1, 3, 3)
+        cover = enclose_triangles(T, tol, ms)
+        return T, cover.spheres, cover.over_estimate
+
+    T, spheres, over = cached(key, compute)             # the enclosure of an unchanged mesh is kept on disk
+    T = T.reshape(-1, 3, 3)
+    if not taken:
+        budget.take(len(T), f.label)
+    return _Piece([], spheres, over, f"{source}: {len(T)} triangles in {len(spheres)} spheres", T)
 
 
 def _piece(f: Table, kind: str, base_dir: Path, budget, parent: np.ndarray) -> _Piece:
@@ -182,12 +199,24 @@ def _piece(f: Table, kind: str, base_dir: Path, budget, parent: np.ndarray) -> _
     merge = f.t.get("merge", True)
     if not isinstance(merge, bool):
         raise f.fail("merge", f"must be true or false, not {merge!r}")
-    P = load_points(path, f"{f.label}: file")
-    budget.take(len(P), f.label)
-    P = _place(P * scale, pose, f, path.name)
-    cover = enclose_points(P, pr, merge)
-    return _Piece([], cover.spheres, cover.over_estimate, f"{path.name}: {len(P)} points in {len(cover.spheres)} "
-                  f"spheres")
+    if path.suffix.lower() not in POINT_SUFFIXES:
+        load_points(path, f"{f.label}: file")             # says which files are point clouds
+    data = read_bytes(path, f"{f.label}: file", "point cloud")
+    taken = []
+
+    def compute():
+        P = load_points(path, f"{f.label}: file")
+        budget.take(len(P), f.label)
+        taken.append(True)
+        P = _place(P * scale, pose, f, path.name)
+        cover = enclose_points(P, pr, merge)
+        return P, cover.spheres, cover.over_estimate
+
+    P, spheres, over = cached(cache_key("points" + path.suffix.lower(), data, scale, pose, [pr, float(merge)]),
+                              compute)
+    if not taken:
+        budget.take(len(P), f.label)
+    return _Piece([], spheres, over, f"{path.name}: {len(P)} points in {len(spheres)} spheres")
 
 
 def _compound(f: Table, base_dir: Path, budget) -> _Piece:
