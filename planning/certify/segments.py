@@ -10,7 +10,11 @@ two of them.  Here each segment q(t) = a + t·(b − a), t ∈ [0, 1], is proven
   box.  If the bound excludes [−ε, ε] the piece is proven clear; if g at the piece's midpoint is
   inside the window a violation is found; otherwise the piece is halved.  Pieces still open after
   ``max_depth`` halvings (a segment touching the window's boundary tangentially) are reported as
-  unproven, never as clear.
+  unproven, never as clear;
+* a point-set window (every configuration within w of a sampled point, over the window's joints):
+  the segment is decided by its distances to the points near it, found with the window's KD-tree
+  (:mod:`planning.certify.points`; discs are enclosed by a ball and a slab).  A segment that meets
+  an enclosure where no state is confirmed inside is reported as unproven.
 
 The pieces of every segment of a path are processed together as one numpy batch per window.
 """
@@ -24,6 +28,7 @@ from kin.errors import ConfigurationError
 from kin.singular.expression import parse_tree
 from kin.singular.tree import Node
 from planning.certify.intervals import IntervalError, compile_interval
+from planning.certify.points import certify_point_set
 
 __all__ = ["SegmentViolation", "PathProof", "certify_path", "MAX_DEPTH", "MAX_PIECES"]
 
@@ -37,7 +42,8 @@ MAX_PIECES = 2_000_000
 class SegmentViolation:
     """A state inside a window: segment ``segment`` (its first row), at fraction ``t`` of it,
     configuration ``q`` (SI), window ``window`` (its name), ``depth`` = ε − |g| (how far inside;
-    for an interval window the joint distance to the interval's nearer end)."""
+    for an interval window the joint distance to the interval's nearer end, for a point-set window
+    the width minus the distance to the nearest point)."""
 
     segment: int
     t: float
@@ -51,9 +57,10 @@ class PathProof:
     """Result of :func:`certify_path`: ``proven`` — every segment was proven clear of every window
     (the path is valid by proof); ``violation`` — the first state found inside a window (None when
     none); ``unproven`` — (segment, window) pairs neither proven nor refuted; ``pieces`` — boxes
-    evaluated; ``methods`` — per window name, ``"exact"`` (interval windows), ``"interval"`` (proof
-    by interval arithmetic) or ``"sampled"`` (the expression is not supported, or a point-set window
-    of a numeric component: not proven)."""
+    evaluated (and segment–point pairs examined); ``methods`` — per window name, ``"exact"``
+    (interval windows), ``"interval"`` (proof by interval arithmetic), ``"distance"`` (a point-set
+    window of a numeric component: segment–point distances, :mod:`planning.certify.points`) or
+    ``"sampled"`` (the expression is not supported: not proven)."""
 
     proven: bool
     violation: SegmentViolation | None
@@ -175,9 +182,14 @@ def certify_path(windows, path, max_depth: int = MAX_DEPTH, max_pieces: int = MA
             if v is not None:
                 violations.append(v)
             continue
-        if getattr(w, "epsilon", None) is None:        # a point-set window (numeric component): no formula
-            proof.methods[w.name] = "sampled"
-            proof.unproven.extend((k, w.name) for k in range(len(P) - 1))
+        if getattr(w, "is_point_set", False):         # a numeric component: no formula, its points
+            proof.methods[w.name] = "distance"
+            pp = certify_point_set(w, P)
+            proof.pieces += pp.pairs
+            proof.unproven.extend((k, w.name) for k in pp.unproven)
+            if pp.violation is not None:
+                k, t, depth = pp.violation
+                violations.append(SegmentViolation(k, t, P[k] + t * (P[k + 1] - P[k]), w.name, depth))
             continue
         try:
             fn = compile_interval(window_expression(w))
