@@ -5,8 +5,9 @@ boxes, collisions with the work cell and the robot itself.
 path and works on plain Python floats (interval windows are interval tests, other windows the
 scalar closure of their expression tree, :func:`kin.singular.evaluate.scalar_function`; σ_min only
 when a floor is set).  ``motion_valid`` checks a straight motion:
-its end states, the interval windows and limits exactly, and the other constraints as one numpy
-batch at a joint step finer than the narrowest window, so no window can be jumped.  With a
+its end states, the interval windows and limits exactly, point-set windows by proof (segment–point
+distances, :mod:`planning.certify.points`), and the other constraints as one numpy batch at a joint
+step finer than the narrowest window, so no window can be jumped.  With a
 :class:`planning.collision.CollisionWorld` a state must be clear by its margin (one call of the
 compiled clearance kernel) and a motion is valid only when it is *proven* clear
 (:func:`planning.certify.collision.certify_collision`), so every edge a planner keeps is proven.
@@ -26,6 +27,7 @@ import numpy as np
 from kin.singular.evaluate import scalar_function
 from planning import motion as native_motion
 from planning.certify.collision import certify_collision
+from planning.certify.points import PointSetProver
 from planning.certify.segments import window_expression
 from planning.errors import PlanningError
 
@@ -76,11 +78,13 @@ class JointSpaceChecker:
                 if w.is_interval:
                     self._intervals.append((w.joint, list(w.intervals)))
                 elif getattr(w, "is_point_set", False):     # planning.windows.sampled: 0 exactly inside
-                    self._predicates.append((w.excess, 0.0))
+                    self._predicates.append((PointSetProver(w).excess, 0.0))
                     self._predicate_windows.append(w)
                 else:
                     self._predicates.append((scalar_function(window_expression(w)), float(w.epsilon)))
                     self._predicate_windows.append(w)
+        #: point-set windows: motions proven clear by segment–point distances (planning.certify.points)
+        self._point_sets = [PointSetProver(w) for w in self._predicate_windows if getattr(w, "is_point_set", False)]
         # the motion step: a fifth of the narrowest window, at most 1° / 1 mm
         self.step_angle = min(MAX_MOTION_STEP_ANGLE, min(widths_rev) / 5)
         self.step_length = min(MAX_MOTION_STEP_LENGTH, min(widths_len) / 5)
@@ -204,8 +208,9 @@ class JointSpaceChecker:
         The end states are checked as single states (cheap; most rejected motions end inside a
         window).  Joint limits then hold along the whole motion (the limit box is convex) and an
         interval window [lo, hi] on joint j is entered exactly when the range of q_j along the motion
-        overlaps it (q_j is linear in the motion parameter), so neither needs sampling.  Only the
-        multi-joint windows, the σ_min floor and the keep-out boxes are checked at the states of
+        overlaps it (q_j is linear in the motion parameter), so neither needs sampling; nor do
+        point-set windows (proven clear by segment–point distances, or the motion is invalid).  Only
+        the formula windows, the σ_min floor and the keep-out boxes are checked at the states of
         :meth:`motion_states` (a step finer than the narrowest window), as one numpy batch; the
         collision world by proof (unproven counts as invalid).
         """
@@ -232,15 +237,22 @@ class JointSpaceChecker:
         return self._extras_motion(a, b)
 
     def _extras_motion(self, a, b) -> bool:
-        """Formula and point-set windows, the σ_min floor and the boxes at the states of
-        :meth:`motion_states` (the end states are checked already)."""
+        """Point-set windows by proof (:class:`planning.certify.points.PointSetProver`, no sampling: a
+        motion it cannot prove clear is invalid); formula windows, the σ_min floor and the boxes at
+        the states of :meth:`motion_states` (the end states are checked already)."""
         if not self.extras:
+            return True
+        if self._point_sets:
+            qa, qb = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+            if not all(p.clear(qa, qb) for p in self._point_sets):
+                return False
+        if len(self._point_sets) == len(self._predicate_windows) and self.sigma_floor is None and not self.boxes:
             return True
         Q = self.motion_states(a, b)[1:-1]
         if len(Q) == 0:
             return True
         for w in self._predicate_windows:
-            if w.contains(Q).any():
+            if not getattr(w, "is_point_set", False) and w.contains(Q).any():
                 return False
         if self.sigma_floor is not None and (self.robot.sigma_min(Q) < self.sigma_floor).any():
             return False
