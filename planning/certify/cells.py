@@ -15,8 +15,10 @@ projections lie in one connected piece of that group's free set.
   (labelled by :func:`label_cells`), hold the whole free set.  If the start's and the goal's cells
   are in different components of the unblocked cells, no joint path exists — a proof, whatever the
   grid's resolution (a coarser grid only proves less).
-* Larger groups, and windows whose expression interval arithmetic does not support, are left out —
-  leaving a window out only enlarges the set searched, so every verdict stays sound.
+* Larger groups, windows whose expression interval arithmetic does not support, and point-set
+  windows (numeric components, :class:`planning.windows.PointSetWindow`; left out before the joints
+  are grouped, so that they do not join the groups of the others) are left out — leaving a window
+  out only enlarges the set searched, so every verdict stays sound.
 
 Keep-out boxes and σ_min floors only shrink the free space further; they are not needed for a
 verdict of impossibility, which is all this module gives ("no path" is proven; "maybe a path" is
@@ -134,7 +136,10 @@ class FreeCells:
         self.lower = np.asarray(lower, dtype=float)
         self.upper = np.asarray(upper, dtype=float)
         self.n = len(self.lower)
-        self.windows = [] if windows is None else list(windows.windows)
+        # point-set windows (numeric components) are left out: leaving a window out only enlarges the free
+        # set, so every verdict stays sound, and they no longer tie their joints to the other windows'
+        # groups (the iiwa's elbow slab q4 ∈ [−m, m] shares q4 with two of them)
+        self.windows = [] if windows is None else [w for w in windows.windows if not getattr(w, "is_point_set", False)]
         self.grid_cells = dict(GRID_CELLS if grid_cells is None else grid_cells)
         self.groups = [(tuple(js), [w for w in self.windows if (w.joints[0] - 1) in js])
                        for js in joint_groups(self.windows)]
@@ -176,8 +181,6 @@ class FreeCells:
                         blocked |= (lo[:, j] >= a) & (hi[:, j] <= b)
                     used.append(w.name)
                     continue
-                if getattr(w, "epsilon", None) is None:
-                    continue                    # a point-set window: left out, the verdict stays sound
                 try:
                     fn = compile_interval(window_expression(w))
                 except IntervalError:
