@@ -57,8 +57,9 @@ THREADED_SEARCH = ("PRM", "PRMstar")
 SINGULARITY_SCALE = 0.01
 #: the most sub-states at which the roadmap search evaluates σ_min (about 0.05 s unloaded)
 MAX_COST_STATES = 50_000
-#: default_range: how far (in chain lengths) one edge may move a point of the robot
-RANGE_REACH = 2.0
+#: default_range: how far (in chain lengths) one edge may move a point of the robot (1.5: the shortest
+#: median and p95 planning times on MotionBenchMaker's Panda problems of 1.5, 2 and 3)
+RANGE_REACH = 1.5
 _RANGES: dict = {}          # default_range per robot (chain, geometry, value), by identity
 
 
@@ -332,8 +333,8 @@ def default_range(robot) -> float:
     geometry: along an edge of this length no point of the robot moves, by the first-order bound of
     :func:`kin.geometry.motion.capsule_radii`, more than :data:`RANGE_REACH` times the chain's length
     (:func:`kin.geometry.chain_length`).  OMPL's own default, a fifth of the joint space's diagonal, makes
-    edges of several radians that mostly end in collision; this gives 1.1 for the Panda and 1.5 for the UR5
-    (the values VAMP tuned by hand: 1.0 and 1.5)."""
+    edges of several radians that mostly end in collision; this gives 0.83 for the Panda and 1.1 for the UR5
+    of MotionBenchMaker (VAMP tuned 1.0 and 1.5 by hand for its own, cheaper, sampled checks)."""
     key = (id(robot.chain), id(robot.geometry))
     hit = _RANGES.get(key)
     if hit is not None and hit[0] is robot.chain and hit[1] is robot.geometry:
