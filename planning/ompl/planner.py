@@ -94,9 +94,10 @@ class PlanResult:
     @property
     def proven(self) -> bool:
         """True when the returned path is proven clear of every window — and, in a work cell, of every
-        collision — not only sampled."""
+        collision, and with a σ_min floor above it — not only sampled."""
         return (self.success and self.proof is not None and self.proof.proven
-                and (self.check is None or self.check.collision_check in (None, "proven")))
+                and (self.check is None or (self.check.collision_check in (None, "proven")
+                                            and self.check.sigma_check in (None, "proven"))))
 
     @property
     def min_clearance(self) -> float | None:
