@@ -346,14 +346,14 @@ int rmt_motion_state(rmt_motion *X, const double *q)
     if (w[1] <= v && v <= w[2]) return RMT_MOTION_WINDOW;
   }
   if (X->m == NULL || X->m->ncap == 0) return RMT_MOTION_CLEAR;
-  place_one(X, q, 0.0, &X->one);
-  return block_collisions(X, &X->one, 1u, 1) ? RMT_MOTION_COLLISION : RMT_MOTION_CLEAR;
+  return state_one(X, &X->ss, q) ? RMT_MOTION_CLEAR : RMT_MOTION_COLLISION;
 }
 
 void rmt_motion_free(rmt_motion *X)
 {
   if (X == NULL) return;
   free(X->deep);
+  free(X->ssbuf);
   free(X->local);
   free(X->pmask);
   free(X->omask);
@@ -387,6 +387,9 @@ rmt_motion *rmt_motion_new(const rmt_clear_model *m, long long n, double margin,
   X->mem = (double *)calloc(nd + per * nblk, sizeof(double));
   X->deep = (block *)calloc(2 * ((size_t)max_depth + 1), sizeof(block));
   X->local = (wcap *)calloc((size_t)nc + 1, sizeof(wcap));
+  X->ssbuf = (double *)malloc(scratch_size(m) + sizeof(double));
+  if (X->ssbuf == NULL) { rmt_motion_free(X); return NULL; }
+  scratch_layout(m, X->ssbuf, &X->ss);
   X->pmask = (unsigned *)calloc((size_t)m->npair + 1, sizeof(unsigned));
   X->omask = (unsigned *)calloc((size_t)(nb * m->nprim) + 1, sizeof(unsigned));
   X->okp = (unsigned char *)calloc((size_t)m->nprim + 1, 1);

@@ -159,4 +159,60 @@ static unsigned block_collisions(rmt_motion *X, const block *B, unsigned lanes, 
   return bad;
 }
 
+/* One configuration, scalar (the state validity checker's question: one state, not eight): clearance.c's
+   frames and capsules of one configuration into its scratch s, then every body against the primitives
+   (the bounds of its ball against all of them at once, body_bounds), the capsules of those that come
+   near, and the body pairs — the pair that collided last first.  1 when clear by the margin. */
+static int state_one(rmt_motion *X, scratch *s, const double *q)
+{
+  const rmt_clear_model *m = X->m;
+  double thr = X->tnext;                         /* a distance below it is not clear */
+  frames(m, q, 1, s, 1);
+  place(m, s, 1);
+  s->Cl = s->C;
+  s->Wl = s->W;
+  long long nprim = m->nprim;
+  for (int pass = X->hint == NO_HINT ? 1 : 0; pass < 2; ++pass) {   /* pass 0: the hint alone */
+    for (long long b = 0; b <= m->last; ++b) {
+      long long c0 = m->body_cap[b], c1 = m->body_cap[b + 1];
+      if (c0 == c1 || nprim == 0) continue;
+      if (pass == 0 && !(X->hint >= 0 && X->hint / nprim == b)) continue;   /* the hint's body first */
+      body_bounds(m, s->Wl + 4 * b, b, X->plb);
+      for (long long p = 0; p < nprim; ++p) {
+        if (!(X->plb[p] < thr)) continue;
+        if (pass == 0 && p != X->hint % nprim) continue;
+        const double *P = m->prim + RMT_PRIM_STRIDE * p;
+        long long kind = m->prim_int[4 * p];
+        for (long long c = c0; c < c1; ++c) {
+          const wcap *w = s->Cl + c;
+          if (kind == RMT_PRIM_SET) {
+            long long hit;
+            cap_set(m, m->prim_int[4 * p + 2], w, thr, &hit);
+            if (hit >= 0) { X->hint = b * nprim + p; return 0; }
+            continue;
+          }
+          if (far_apart(dist2(w->m, P), w->rb + P[3], thr)) continue;
+          if (cap_prim(w, P, kind, thr, 0, NULL) < thr) { X->hint = b * nprim + p; return 0; }
+        }
+      }
+    }
+    for (long long pr = 0; pr < m->npair; ++pr) {
+      if (pass == 0 && X->hint != -1 - pr) continue;
+      long long bi = m->pair[2 * pr], bj = m->pair[2 * pr + 1];
+      const double *Wi = s->Wl + 4 * bi, *Wj = s->Wl + 4 * bj;
+      if (far_apart(dist2(Wi, Wj), Wi[3] + Wj[3], thr)) continue;
+      for (long long ci = m->body_cap[bi]; ci < m->body_cap[bi + 1]; ++ci) {
+        const wcap *u = s->Cl + ci;
+        for (long long cj = m->body_cap[bj]; cj < m->body_cap[bj + 1]; ++cj) {
+          const wcap *w = s->Cl + cj;
+          if (far_apart(dist2(u->m, w->m), u->rb + w->rb, thr)) continue;
+          double sa, tb;
+          if (seg_seg(u, w->a, w->d, w->dd, w->idd, &sa, &tb) - u->r - w->r < thr) { X->hint = -1 - pr; return 0; }
+        }
+      }
+    }
+  }
+  return 1;
+}
+
 #endif

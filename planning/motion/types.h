@@ -69,7 +69,9 @@ typedef struct {
   unsigned char *made;       /* ncap: which capsules' chord balls are made */
   block blk[3];              /* the first block, and two alternating */
   block *deep;               /* 2 × (max_depth + 1): refinement, two per depth */
-  block one;                 /* a single state (the state check, the motion's end) */
+  block one;                 /* a single state (refinement's spare) */
+  scratch ss;                /* clearance.c's scratch for one configuration (the state check) */
+  double *ssbuf;
   double *mem;
 } rmt_motion;
 
