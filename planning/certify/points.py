@@ -277,10 +277,10 @@ class PointSetProver:
         if self.tree is None:
             return True
         x, y = a[self.cols], b[self.cols]
+        if not (-1e150 < x.min() and x.max() < 1e150 and -1e150 < y.min() and y.max() < 1e150):
+            return False                                  # not workable (or NaN): unproven
         d = y - x
         length = math.sqrt(float(d @ d))
-        if not (length < 1e150 and -1e150 < x.min() and x.max() < 1e150):
-            return False                                  # not workable: unproven
         k = min(max(math.ceil(length / self.piece), 1), MAX_PIECES_PER_SEGMENT)
         r = (0.5 * length / k + self.R_max + SLACK) * (1 + 1e-12) + 1e-12
         if k == 1:
