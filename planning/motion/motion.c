@@ -293,6 +293,7 @@ int rmt_motion_check(rmt_motion *X, const double *a, const double *b, int ordere
   rmt_motion_result best = { RMT_MOTION_CLEAR, NAN, 0, 0, HUGE_VAL };
   block *B0 = X->blk, *prev = B0;
   for (int l = 0; l < LANES; ++l) B0->t[l] = l < STRIPS ? (double)(l * (S - 1)) / K : 1.0;
+  X->placed = ~0ULL;
   place_states(X, a, dq, B0);
   r->evals += STRIPS + 1;
   r->states = STRIPS * (S - 1) + 1;
@@ -301,6 +302,14 @@ int rmt_motion_check(rmt_motion *X, const double *a, const double *b, int ordere
   if (coll && !X->ordered) { r->t = B0->t[__builtin_ctz(coll)]; return r->status = RMT_MOTION_COLLISION; }
   for (int k = 0; k < LANES; ++k) if ((coll >> k) & 1) note(&best, RMT_MOTION_COLLISION, B0->t[k]);
   if (open || bound) curvature(X, dq);
+  if (!bound) {                       /* the later blocks place only the bodies an open strip needs */
+    X->placed = 0;
+    for (long long b = 0; b <= m->last; ++b)
+      for (long long p = 0; p < m->nprim; ++p)
+        if (X->omask[m->nprim * b + p]) { X->placed |= 1ULL << b; break; }
+    for (long long p = 0; p < m->npair; ++p)
+      if (X->pmask[p]) X->placed |= 1ULL << m->pair[2 * p] | 1ULL << m->pair[2 * p + 1];
+  }
   if (bound) {
     open = STRIP_LANES;
     for (long long p = 0; p < m->npair; ++p) X->pmask[p] = STRIP_LANES;
@@ -376,7 +385,8 @@ rmt_motion *rmt_motion_new(const rmt_clear_model *m, long long n, double margin,
     return NULL;
   rmt_motion *X = (rmt_motion *)calloc(1, sizeof(rmt_motion));
   if (X == NULL) return NULL;
-  X->m = m; X->n = n; X->margin = margin; X->tnext = nextafter(margin, HUGE_VAL); X->hint = NO_HINT; X->lower = lower; X->upper = upper; X->R = R; X->Rb = Rb;
+  X->m = m; X->n = n; X->margin = margin; X->tnext = nextafter(margin, HUGE_VAL); X->hint = NO_HINT;
+  X->placed = ~0ULL; X->lower = lower; X->upper = upper; X->R = R; X->Rb = Rb;
   X->revolute = revolute; X->nwin = nwin; X->win = win; X->step = step; X->cap = cap;
   X->ngroup = ngroup; X->gbeg = gbeg; X->cbeg = cbeg; X->gcap = gcap; X->gball = gball;
   X->max_states = max_states; X->max_depth = max_depth; X->max_evals = max_evals;

@@ -29,13 +29,15 @@ RMT_INLINE void frame_point(const double *F, const double *s, double *out, const
   }
 }
 
-/* the capsules' segments and the balls' centres in the world, from the frames, for NL lanes */
+/* the capsules' segments and the balls' centres in the world, from the frames, for NL lanes, of the
+   bodies in X->placed (bit b: body b; after a motion's first block only the bodies some open strip still
+   needs are placed) */
 RMT_INLINE void place_soa(const rmt_motion *X, block *B, const int NL)
 {
   const rmt_clear_model *m = X->m;
   for (long long b = 0; b <= m->last; ++b) {
     long long c0 = m->body_cap[b], c1 = m->body_cap[b + 1];
-    if (c0 == c1) continue;
+    if (c0 == c1 || !((X->placed >> b) & 1)) continue;
     const double *F = B->F + 12 * LANES * b;
     frame_point(F, m->body_sphere + 4 * b, B->W + 3 * LANES * b, NL);
     for (long long g = X->gbeg[b]; g < X->gbeg[b + 1]; ++g) frame_point(F, X->gball + 4 * g, B->G + 3 * LANES * g, NL);

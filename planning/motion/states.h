@@ -139,12 +139,13 @@ static unsigned block_collisions(rmt_motion *X, const block *B, unsigned lanes, 
 {
   const rmt_clear_model *m = X->m;
   unsigned bad = 0;
-  if (stop && X->hint != NO_HINT) {
+  if (stop && X->hint != NO_HINT && X->placed == ~0ULL) {
     bad = code_lanes(X, B, X->hint, lanes, X->margin);
     if (bad) return bad;
   }
   for (long long b = 0; b <= m->last; ++b) {
-    if (m->body_cap[b] == m->body_cap[b + 1]) continue;
+    /* a body not placed is proven clear on the whole motion (see X->placed) */
+    if (m->body_cap[b] == m->body_cap[b + 1] || !((X->placed >> b) & 1)) continue;
     for (long long p = 0; p < m->nprim; ++p) {
       unsigned h = body_prim_lanes(X, B, b, p, lanes & ~bad, X->margin);
       if (h) { bad |= h; X->hint = b * m->nprim + p; }
@@ -152,6 +153,7 @@ static unsigned block_collisions(rmt_motion *X, const block *B, unsigned lanes, 
     }
   }
   for (long long pr = 0; pr < m->npair; ++pr) {
+    if (!((X->placed >> m->pair[2 * pr]) & 1) || !((X->placed >> m->pair[2 * pr + 1]) & 1)) continue;
     unsigned h = pair_lanes(X, B, pr, lanes & ~bad, X->margin);
     if (h) { bad |= h; X->hint = -1 - pr; }
     if ((stop && bad) || !(lanes & ~bad)) return bad;
