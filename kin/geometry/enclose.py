@@ -17,12 +17,8 @@ enclose — says how much room the replacement costs.
   itself, exactly.
 * **Point set** (:func:`enclose_points`): the vertices of its convex hull; the axis is the principal
   axis (PCA) or frame axis that gives the least volume, refined by a local search over directions.
-* **Mesh** (:func:`enclose_mesh`): one capsule as for a point set; with ``max_capsules`` of 2 or 3,
-  also the best cut by one plane into two pieces and by two parallel planes into three, each piece
-  enclosed alone.  A piece is the mesh's triangles clipped to its side of the planes, so the pieces'
-  hulls together hold the whole solid (a solid cut by a plane lies in the hull of its surface on
-  that side: the cut face is bounded by the surface).  A cut is kept when it shrinks the capsules'
-  union by at least ``gain`` per extra capsule and does not make the over-estimate worse.
+* **Mesh** (:func:`enclose_mesh`, :mod:`kin.geometry.meshfit`): one capsule as for a point set, or
+  the mesh cut into two or three slabs by parallel planes, each slab enclosed alone.
 
 The over-estimate is computed, not assumed.  For a box or a cylinder it is the largest distance
 from the capsule's end to the solid (the side's is the rim's), a smooth function of two angles
@@ -30,9 +26,10 @@ maximised on a dense grid and refined.  For meshes, the capsules' surface (the p
 capsules) is cut into cells, the distance to the solid is evaluated at each cell's centre, and cells
 that could still hold a larger distance (centre value + the cell's half-size: distances are
 1-Lipschitz) are subdivided until the cell size is within the tolerance; the stated value is that
-upper bound.  Distances to a mesh are to its triangles (a point of the capsules' surface lies
-outside the solid); each point is measured against the triangles that hold its nearest surface
-samples, which can only overstate the distance.
+upper bound.  Cells that cannot exceed a given ``floor`` are not refined (several meshes of one
+robot: only the largest value is stated).  Distances to a mesh are to its triangles (a point of the
+capsules' surface lies outside the solid); each point is measured against the triangle that holds
+its nearest surface sample, which can only overstate the distance.
 """
 from __future__ import annotations
 
@@ -43,7 +40,8 @@ from functools import lru_cache
 import numpy as np
 
 __all__ = ["Capsule", "Enclosure", "capsule_along", "enclose_box", "enclose_cylinder", "enclose_sphere",
-           "enclose_points", "enclose_mesh", "over_estimate", "segment_distance", "surface_samples", "union_volume"]
+           "enclose_points", "enclose_mesh", "over_estimate", "over_bounds", "segment_distance", "surface_samples",
+           "thinned", "union_volume"]
 
 #: the over-estimate of a mesh is an upper bound within this fraction of its size (and 1 µm)
 OVER_TOL = 1e-4
@@ -101,11 +99,13 @@ def segment_distance(P: np.ndarray, a, b) -> np.ndarray:
 
 # ---- the over-estimate ---------------------------------------------------------------------------
 def _axes(u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Two unit vectors making a right-handed frame with unit ``u``."""
-    h = np.array([1.0, 0.0, 0.0]) if abs(u[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    e1 = np.cross(u, h)
-    e1 /= np.linalg.norm(e1)
-    return e1, np.cross(u, e1)
+    """Two unit vectors making a right-handed frame with unit ``u`` (e1 = u × x̂ normalised, or u × ŷ
+    when u is near x̂; e2 = u × e1) — in plain floats: numpy's cross costs more than the sums."""
+    x, y, z = float(u[0]), float(u[1]), float(u[2])
+    a, b, c = (0.0, z, -y) if abs(x) < 0.9 else (-z, 0.0, x)
+    n = math.sqrt(a * a + b * b + c * c)
+    a, b, c = a / n, b / n, c / n
+    return np.array([a, b, c]), np.array([y * c - z * b, z * a - x * c, x * b - y * a])
 
 
 def _surface_points(c: Capsule, s: np.ndarray, psi: np.ndarray) -> np.ndarray:
@@ -125,13 +125,22 @@ def _surface_points(c: Capsule, s: np.ndarray, psi: np.ndarray) -> np.ndarray:
             + (radial * np.sin(psi))[:, None] * e2)
 
 
-def over_estimate(capsules, distance, size: float, tol: float | None = None) -> float:
+def over_estimate(capsules, distance, size: float, tol: float | None = None, floor: float = 0.0) -> float:
     """An upper bound (within ``tol``, default :data:`OVER_TOL`·``size`` and at least 1 µm) of the
     largest distance from the surface of the union of ``capsules`` to a solid; ``distance`` maps
-    points (N, 3) to their distances from the solid (0 inside), ``size`` is the solid's size (m)."""
+    points (N, 3) to their distances from the solid (0 inside), ``size`` is the solid's size (m).
+    With ``floor`` (m) the value is only refined where it could exceed ``floor``: the bound returned
+    is then at most the larger of ``floor`` and the largest distance + ``tol``."""
+    return over_bounds(capsules, distance, size, tol, floor)[0]
+
+
+def over_bounds(capsules, distance, size: float, tol: float | None = None,
+                floor: float = 0.0) -> tuple[float, float]:
+    """(upper, lower) of the over-estimate (m): ``upper`` as :func:`over_estimate` gives it,
+    ``lower`` the largest distance found at a point of the union's surface (a lower bound)."""
     caps = list(capsules)
     tol = max(1e-6, OVER_TOL * size) if tol is None else tol
-    best_bound = 0.0
+    best_bound = lower = 0.0            # lower: the largest distance at a point of the surface so far
     for i, c in enumerate(caps):
         R = c.radius
         if R <= 0:
@@ -154,10 +163,11 @@ def over_estimate(capsules, distance, size: float, tol: float | None = None) -> 
             if not len(S):
                 break
             d = distance(X)
-            lower = float(d[depth <= 0].max()) if np.any(depth <= 0) else 0.0
-            live = d + delta >= lower
-            if delta <= tol:
-                best_bound = max(best_bound, float((d + delta)[live].max()))
+            if np.any(depth <= 0):
+                lower = max(lower, float(d[depth <= 0].max()))
+            live = d + delta >= max(lower, floor)    # cells that may hold a larger distance
+            if delta <= tol or not live.any():
+                best_bound = max(best_bound, float((d + delta)[live].max(initial=0.0)))
                 break
             S, PSI = S[live], PSI[live]
             ds, dpsi = ds / 2, dpsi / 2
@@ -168,7 +178,7 @@ def over_estimate(capsules, distance, size: float, tol: float | None = None) -> 
                 X = _surface_points(c, S, PSI)
                 best_bound = max(best_bound, float((distance(X) + ds / 2 + R * dpsi / 2).max()))
                 break
-    return best_bound
+    return max(best_bound, lower, floor), lower
 
 
 # ---- fitting along an axis -----------------------------------------------------------------------
@@ -190,6 +200,14 @@ def _circle3(p, q, r) -> tuple[float, float, float]:
     return ux, uy, math.hypot(ax - ux, ay - uy)
 
 
+@lru_cache(maxsize=None)
+def _permutation(n: int) -> np.ndarray:
+    """A fixed pseudo-random order of n points (seed 0), drawn once per n."""
+    p = np.random.default_rng(0).permutation(n)
+    p.flags.writeable = False
+    return p
+
+
 def _min_circle(Q: np.ndarray) -> tuple[np.ndarray, float]:
     """The smallest circle holding the 2-D points Q (Welzl's algorithm, iterative, on their hull):
     its centre and radius."""
@@ -199,20 +217,17 @@ def _min_circle(Q: np.ndarray) -> tuple[np.ndarray, float]:
             Q = Q[ConvexHull(Q).vertices]
         except Exception:       # collinear or coincident points: keep them all
             pass
-    P = [tuple(p) for p in Q[np.random.default_rng(0).permutation(len(Q))].tolist()]
-
-    def out(p, c):
-        return math.hypot(p[0] - c[0], p[1] - c[1]) > c[2] * (1 + 1e-12)
-
+    P = [tuple(p) for p in Q[_permutation(len(Q))].tolist()]
+    hypot, grow = math.hypot, 1 + 1e-12
     c = (P[0][0], P[0][1], 0.0)
-    for i in range(1, len(P)):
-        if out(P[i], c):
+    for i in range(1, len(P)):        # a point is outside c when farther than its radius · (1 + 1e-12)
+        if hypot(P[i][0] - c[0], P[i][1] - c[1]) > c[2] * grow:
             c = (P[i][0], P[i][1], 0.0)
             for j in range(i):
-                if out(P[j], c):
+                if hypot(P[j][0] - c[0], P[j][1] - c[1]) > c[2] * grow:
                     c = _circle2(P[i], P[j])
                     for k in range(j):
-                        if out(P[k], c):
+                        if hypot(P[k][0] - c[0], P[k][1] - c[1]) > c[2] * grow:
                             c = _circle3(P[i], P[j], P[k])
     return np.array(c[:2]), c[2]
 
@@ -225,6 +240,11 @@ def _ends(t: np.ndarray, rho: np.ndarray, R: np.ndarray) -> tuple[np.ndarray, np
 
 def _volume(R, lo, hi):
     return math.pi * R * R * np.maximum(hi - lo, 0.0) + 4.0 / 3.0 * math.pi * R ** 3
+
+
+#: the radii a capsule along an axis tries, as fractions from the smallest (the farthest point's
+#: distance from the axis) to the ball's: 49, or 17 when quick (squared: denser near the smallest)
+RADIUS_GRID = {False: np.linspace(0.0, 1.0, 49) ** 2, True: np.linspace(0.0, 1.0, 17) ** 2}
 
 
 def capsule_along(P: np.ndarray, u, point=None, quick: bool = False) -> Capsule:
@@ -253,7 +273,7 @@ def capsule_along(P: np.ndarray, u, point=None, quick: bool = False) -> Capsule:
     if r_ball - rmax <= 1e-15 * max(1.0, r_ball):
         R_best = rmax
     else:
-        g = np.linspace(0.0, 1.0, 17 if quick else 49) ** 2
+        g = RADIUS_GRID[quick]
         Rg = rmax + (r_ball - rmax) * g
         lo, hi = _ends(t, rho, Rg)
         V = _volume(Rg, lo, hi)
@@ -386,16 +406,21 @@ def _rotate(u: np.ndarray, axis: np.ndarray, ang: float) -> np.ndarray:
     return u * math.cos(ang) + np.cross(axis, u) * math.sin(ang) + axis * (axis @ u) * (1 - math.cos(ang))
 
 
-def _fit(P: np.ndarray, extra=(), refine: bool = True) -> Capsule:
-    """The least-volume capsule over PCA (and ``extra``) directions, refined by a pattern search."""
+def _fit(P: np.ndarray, extra=(), refine: bool = True, fast: bool = False) -> Capsule:
+    """The least-volume capsule over PCA (and ``extra``) directions, refined by a pattern search.
+
+    ``fast``: the directions are compared by quick capsules (17 radii) of at most
+    :data:`SEARCH_POINTS` of the hull's vertices (:func:`thinned`), the search stops at steps of
+    0.01 rad (else 0.004), and only the capsule along the best direction is fitted to all the points
+    — it holds every point either way."""
     H = _hull_points(P)
     if len(H) == 1 or float(np.ptp(H, axis=0).max()) == 0.0:
         c = _tup(H[0])
         return Capsule(c, c, 0.0)
     cands = _pca_axes(H) + [np.asarray(e, dtype=float) for e in extra]
-    best = min((capsule_along(H, u, quick=not refine) for u in cands), key=lambda c: c.volume)
-    if not refine:
-        return best
+    quick = fast or not refine
+    G = thinned(H, SEARCH_POINTS) if fast else H
+    best = min((capsule_along(G, u, quick=quick) for u in cands), key=lambda c: c.volume)
 
     def direction(c: Capsule, fallback: np.ndarray) -> np.ndarray:
         d = np.subtract(c.b, c.a)
@@ -403,19 +428,39 @@ def _fit(P: np.ndarray, extra=(), refine: bool = True) -> Capsule:
         return d / n if n > 0 else fallback
 
     u = direction(best, cands[0])
-    step = 0.2
-    while step > 0.004:
+    step, stop = 0.2, (0.01 if fast else 0.004)
+    while refine and step > stop:
         e1, e2 = _axes(u)
         moved = False
         for ax in (e1, e2):
             for sgn in (1.0, -1.0):
                 v = _rotate(u, ax, sgn * step)
-                c = capsule_along(H, v)
+                c = capsule_along(G, v, quick=quick)
                 if c.volume < best.volume * (1 - 1e-9):
                     best, u, moved = c, v, True
         if not moved:
             step /= 2
-    return best
+    return capsule_along(H, u, quick=not refine) if fast else best
+
+
+#: the fast direction search of :func:`_fit` looks at most at about this many hull vertices
+SEARCH_POINTS = 400
+
+
+def thinned(P: np.ndarray, budget: int) -> np.ndarray:
+    """About at most ``budget`` of the points P (N, 3): the first in each cell of a cubic grid over
+    them, the grid coarsened until few enough remain (every point lies within a cell of one kept)."""
+    if len(P) <= budget:
+        return P
+    lo, span = P.min(axis=0), float(np.ptp(P, axis=0).max())
+    cells = max(2, int(round(math.sqrt(budget))))
+    while True:
+        key = np.floor((P - lo) / span * cells).astype(np.int64)
+        key = (key[:, 0] * (cells + 1) + key[:, 1]) * (cells + 1) + key[:, 2]
+        _, first = np.unique(key, return_index=True)
+        if len(first) <= budget or cells <= 2:
+            return P[np.sort(first)]
+        cells = max(2, int(cells * 0.8))
 
 
 def surface_samples(tris: np.ndarray, spacing: float, max_per_edge: int = 16) -> tuple[np.ndarray, np.ndarray]:
@@ -460,13 +505,16 @@ def point_triangle_distance(P: np.ndarray, T: np.ndarray) -> np.ndarray:
     return best
 
 
-def _mesh_distance(tris: np.ndarray, k: int = 4):
+def _mesh_distance(tris: np.ndarray, k: int = 1, samples=None):
     """A distance function to the triangles: the exact distance to the nearest of the triangles that
     hold the ``k`` samples nearest to the point — never below the distance to the mesh, and equal to
-    it unless the nearest triangle holds none of those samples."""
+    it unless the nearest triangle holds none of those samples.  ``samples``: the points (N, 3) and a
+    triangle of each (N,) to use instead of :func:`surface_samples` at 1/100 of the mesh's size."""
     from scipy.spatial import cKDTree
-    size = float(np.linalg.norm(np.ptp(tris.reshape(-1, 3), axis=0)))
-    pts, ids = surface_samples(tris, max(size / 100, 1e-9))
+    if samples is None:
+        size = float(np.linalg.norm(np.ptp(tris.reshape(-1, 3), axis=0)))
+        samples = surface_samples(tris, max(size / 100, 1e-9))
+    pts, ids = samples
     tree = cKDTree(pts)
     k = min(k, len(pts))
 
@@ -482,10 +530,12 @@ def _mesh_distance(tris: np.ndarray, k: int = 4):
     return dist
 
 
-def _mesh_over_estimate(caps, tris: np.ndarray) -> float:
-    """The over-estimate of capsules enclosing the solid bounded by triangles, within size/500."""
-    size = float(np.linalg.norm(np.ptp(tris.reshape(-1, 3), axis=0)))
-    return over_estimate(caps, _mesh_distance(tris), size, tol=max(size / 500, 1e-6))
+@lru_cache(maxsize=8)
+def unit_samples(n: int) -> np.ndarray:
+    """n fixed pseudo-random points of the unit cube (seed 1), (n, 3), drawn once per n."""
+    X = np.random.default_rng(1).random((n, 3))
+    X.flags.writeable = False
+    return X
 
 
 def union_volume(capsules, n: int = 20000) -> float:
@@ -496,7 +546,7 @@ def union_volume(capsules, n: int = 20000) -> float:
         return caps[0].volume
     lo = np.min([np.minimum(c.a, c.b) - c.radius for c in caps], axis=0)
     hi = np.max([np.maximum(c.a, c.b) + c.radius for c in caps], axis=0)
-    X = lo + (hi - lo) * np.random.default_rng(1).random((n, 3))
+    X = lo + (hi - lo) * unit_samples(n)
     inside = np.zeros(n, dtype=bool)
     for c in caps:
         inside |= segment_distance(X, c.a, c.b) <= c.radius
@@ -514,117 +564,14 @@ def enclose_points(points) -> Enclosure:
         tree = cKDTree(P)
         size = float(np.linalg.norm(np.ptp(P, axis=0)))
         return Enclosure((cap,), over_estimate([cap], lambda X: tree.query(X)[0], size))
-    return Enclosure((cap,), _mesh_over_estimate([cap], tris))
+    size = float(np.linalg.norm(np.ptp(tris.reshape(-1, 3), axis=0)))
+    return Enclosure((cap,), over_estimate([cap], _mesh_distance(tris, k=4), size, tol=max(size / 500, 1e-6)))
 
 
-def _clip(tris: np.ndarray, n: np.ndarray, off: float) -> np.ndarray:
-    """The parts of triangles (M, 3, 3) with n·x ≤ off, as triangles."""
-    if not len(tris):
-        return tris
-    s = tris @ n - off                                   # (M, 3)
-    inside = s <= 0
-    k = inside.sum(axis=1)
-    out = [tris[k == 3]]
-    for count in (1, 2):
-        sel = k == count
-        if not sel.any():
-            continue
-        T, S, ins = tris[sel], s[sel], inside[sel]
-        # roll each triangle so that vertex 0 is the odd one (the lone inside vertex for count 1,
-        # the lone outside vertex for count 2)
-        odd = np.argmax(ins if count == 1 else ~ins, axis=1)
-        idx = (odd[:, None] + np.arange(3)[None, :]) % 3
-        T = np.take_along_axis(T, idx[:, :, None], axis=1)
-        S = np.take_along_axis(S, idx, axis=1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t1 = np.where(S[:, 0] != S[:, 1], S[:, 0] / (S[:, 0] - S[:, 1]), 0.0)
-            t2 = np.where(S[:, 0] != S[:, 2], S[:, 0] / (S[:, 0] - S[:, 2]), 0.0)
-        p1 = T[:, 0] + t1[:, None] * (T[:, 1] - T[:, 0])
-        p2 = T[:, 0] + t2[:, None] * (T[:, 2] - T[:, 0])
-        if count == 1:
-            out.append(np.stack([T[:, 0], p1, p2], axis=1))
-        else:
-            out.append(np.stack([p1, T[:, 1], T[:, 2]], axis=1))
-            out.append(np.stack([p1, T[:, 2], p2], axis=1))
-    return np.concatenate(out, axis=0)
-
-
-def _pieces(tris: np.ndarray, n: np.ndarray, offsets) -> list[np.ndarray]:
-    """The triangle soup cut by the parallel planes n·x = offset (ascending): the slabs, low to high."""
-    out, rest = [], tris
-    for off in offsets:
-        out.append(_clip(rest, n, off))
-        rest = _clip(rest, -n, -off)
-    return out + [rest]
-
-
-def _directions(H: np.ndarray) -> list[np.ndarray]:
-    """Cut normals: the principal axes, the frame's axes and their diagonals, without repeats."""
-    frame = list(np.eye(3))
-    diagonals = [(e + sgn * f) / math.sqrt(2) for i, e in enumerate(frame) for f in frame[i + 1:] for sgn in (1, -1)]
-    uniq: list[np.ndarray] = []
-    for v in _pca_axes(H) + frame + diagonals:
-        v = v / np.linalg.norm(v)
-        if all(abs(v @ w) < 0.999 for w in uniq):
-            uniq.append(v)
-    return uniq
-
-
-def _best_cut(tris: np.ndarray, k: int) -> list[np.ndarray] | None:
-    """The cut of a triangle soup into ``k`` slabs (parallel planes) whose capsules (quick fits) have
-    the smallest union; None when no cut leaves ``k`` non-empty pieces."""
-    H = _hull_points(tris.reshape(-1, 3))
-    fractions = np.linspace(0.15, 0.85, 8) if k == 2 else np.linspace(0.1, 0.9, 7)
-    best = None
-    for i, n in enumerate(_directions(H)):
-        if k == 3 and i >= 6:           # three slabs: along the principal and frame axes only
-            break
-        proj = H @ n
-        offs = proj.min() + fractions * (proj.max() - proj.min())
-        choices = [(o,) for o in offs] if k == 2 else [(o1, o2) for j, o1 in enumerate(offs) for o2 in offs[j + 2:]]
-        for cut in choices:
-            pieces = _pieces(tris, n, cut)
-            if any(len(p) == 0 for p in pieces):
-                continue
-            v = union_volume([_fit(p.reshape(-1, 3), refine=False) for p in pieces], 5000)
-            if best is None or v < best[0]:
-                best = (v, pieces)
-    return None if best is None else best[1]
-
-
-def enclose_mesh(vertices, faces, max_capsules: int = 3, gain: float = 0.05) -> Enclosure:
+def enclose_mesh(vertices, faces, max_capsules: int = 3, gain: float = 0.05, search: str = "fast") -> Enclosure:
     """Capsules (at most ``max_capsules``, 1 to 3) that together hold the solid bounded by the
     triangle mesh (``vertices`` (V, 3), ``faces`` (F, 3) indices), and their over-estimate with respect
-    to the mesh.
-
-    One capsule holds the whole mesh; with ``max_capsules`` ≥ 2 the best cut into two (one plane) and
-    into three (two parallel planes) pieces are tried too, and the one of least union volume is taken
-    when it is at least ``gain`` per extra capsule smaller than the single capsule and stands out of
-    the mesh no more than it does.
-    """
-    V = np.asarray(vertices, dtype=float).reshape(-1, 3)
-    F = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
-    if not len(F):
-        raise ValueError("the mesh has no triangles")
-    if not np.all(np.isfinite(V)):
-        raise ValueError("the mesh has NaN or infinite vertices")
-    if not 1 <= max_capsules <= 3:
-        raise ValueError(f"max_capsules = {max_capsules} must be 1, 2 or 3")
-    tris = V[F]
-    frame = np.eye(3)
-    single = [_fit(tris.reshape(-1, 3), extra=frame)]
-    v_single = union_volume(single)
-    over_single = _mesh_over_estimate(single, tris)
-    cands = []
-    for k in range(2, max_capsules + 1):
-        pieces = _best_cut(tris, k)
-        if pieces is not None:
-            caps = [_fit(p.reshape(-1, 3), extra=frame) for p in pieces]
-            vol = union_volume(caps)
-            if vol <= (1 - gain * (k - 1)) * v_single:
-                cands.append((vol, caps))
-    for vol, caps in sorted(cands, key=lambda c: c[0]):     # the smallest union that is no worse
-        over = _mesh_over_estimate(caps, tris)
-        if over <= over_single * (1 + 1e-6) or (over <= 1.05 * over_single and vol < 0.8 * v_single):
-            return Enclosure(tuple(caps), over)
-    return Enclosure(tuple(single), over_single)
+    to the mesh: :func:`kin.geometry.meshfit.fit_mesh` (``search``: "fast" or "exhaustive")."""
+    from kin.geometry.meshfit import fit_mesh
+    fit = fit_mesh(vertices, faces, max_capsules, gain, search)
+    return Enclosure(fit.capsules, fit.over_estimate())

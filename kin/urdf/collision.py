@@ -9,14 +9,18 @@ the chain becomes capsules on that body (:mod:`kin.geometry.enclose`), with its 
   moved by joints off the chain (a gripper's fingers) cannot ride on any body and are left out; the
   geometry's ``source`` names them.
 * **Shapes.** A sphere is a capsule; a box and a cylinder are enclosed by one capsule, a mesh by up to
-  ``max_capsules``; a cylinder with a sphere of its radius on each end — how
-  :func:`kin.urdf.chain_to_urdf` writes a capsule — is read back as that capsule, exactly.
+  ``max_capsules`` (:mod:`kin.geometry.meshfit`, ``search`` "fast" or "exhaustive"); a cylinder with
+  a sphere of its radius on each end — how :func:`kin.urdf.chain_to_urdf` writes a capsule — is read
+  back as that capsule, exactly.  The over-estimate stated is the largest of all elements', each mesh's
+  refined only where it could exceed the others'.
 * **Meshes** are read with trimesh, scaled by the element's ``scale``: a plain path is relative to the
   URDF's directory, ``file://`` is an absolute path, ``package://NAME/REST`` is REST inside the
   directory given for NAME in ``package_dirs``, else inside the nearest directory above the URDF file
   that is named NAME (how ROS packages are laid out).  Nothing is fetched from a network: other
   schemes are refused.  A file beyond :data:`MAX_MESH_BYTES` or a mesh beyond
   :data:`MAX_MESH_TRIANGLES` is refused; one beyond :data:`SPLIT_TRIANGLES` gets a single capsule.
+* **Sizes** are those a robot file holds: a sphere's, box's or cylinder's dimensions from 1 nm to
+  10 km, mesh vertices (scaled) and collision origins within 10 km.
 
 Every problem is one :class:`~kin.urdf.errors.UrdfError` naming the file, the link and the element.
 """
@@ -28,6 +32,7 @@ from urllib.parse import unquote, urlparse
 
 import numpy as np
 
+from kin.robotfile import MAX_LENGTH, MIN_LENGTH
 from kin.urdf.errors import UrdfError
 
 #: a mesh file larger than this is refused (bytes)
@@ -125,6 +130,9 @@ def _positive(x, what: str, urdf_path: str, where: str) -> float:
     v = float(x) if x is not None else math.nan
     if not (math.isfinite(v) and v > 0):
         raise UrdfError(f"the {what} {x!r} must be a positive finite number (m)", urdf_path, where)
+    if not MIN_LENGTH <= v <= MAX_LENGTH:
+        raise UrdfError(f"the {what} {v:g} m; allowed: {MIN_LENGTH:g} to {MAX_LENGTH:g} m (1 nm to 10 km)",
+                        urdf_path, where)
     return v
 
 
@@ -151,12 +159,14 @@ def _capsules_of_pairs(elements, urdf_path: str):
     return out
 
 
-def collision_geometry(sc, frames: list[np.ndarray], max_capsules: int = 3, package_dirs=None):
+def collision_geometry(sc, frames: list[np.ndarray], max_capsules: int = 3, package_dirs=None,
+                       search: str = "fast", progress=None):
     """The :class:`~kin.geometry.RobotGeometry` of the <collision> elements of the chain's links;
     ``frames``: the poses at q = 0 (base-link frame) of bodies 0 … n + 1 (DH frames 0 … n, then the
-    tip).  None when the chain's links have no collision elements."""
+    tip).  None when the chain's links have no collision elements.  ``search``: how meshes are cut
+    (:mod:`kin.geometry.meshfit`); ``progress(stage, done, total)`` is called as meshes are fitted."""
     from kin.geometry import LinkCapsule, RobotGeometry
-    from kin.geometry.enclose import enclose_box, enclose_cylinder, enclose_mesh
+    from kin.geometry.enclose import enclose_box, enclose_cylinder
 
     path = sc.path
     count = sum(len(lk.collisions) for lk in sc.links)
@@ -165,22 +175,25 @@ def collision_geometry(sc, frames: list[np.ndarray], max_capsules: int = 3, pack
     if count > MAX_ELEMENTS:
         raise UrdfError(f"the chain's links hold {count} <collision> elements; at most {MAX_ELEMENTS} are read", path)
     inv = [np.linalg.inv(F) for F in frames]
-    caps: list = []
+    parts: list = []                    # (link, body, pose in the body frame, Enclosure or mesh key)
     over = 0.0
     kinds = {"mesh": 0, "box": 0, "cylinder": 0, "sphere": 0, "capsule": 0}
-    meshes: dict[tuple, object] = {}
+    meshes: dict[tuple, tuple] = {}     # key → (file, scale, where)
     for lk in sc.links:
         place = inv[lk.body] @ lk.pose                  # link frame → body frame
         elements = [(np.eye(4) if c.origin is None else np.asarray(c.origin, dtype=float), c.geometry)
                     for c in lk.collisions]
         for i, (T, g) in enumerate(elements):
+            where = f"link {lk.name!r} collision {i}"
             if g is None or not np.all(np.isfinite(T)):
-                raise UrdfError("its <origin> holds a NaN or infinite value, or it has no <geometry>",
-                                path, f"link {lk.name!r} collision {i}")
+                raise UrdfError("its <origin> holds a NaN or infinite value, or it has no <geometry>", path, where)
+            if np.abs(T[:3, 3]).max() > MAX_LENGTH:
+                raise UrdfError(f"its <origin> xyz {T[:3, 3].tolist()}; allowed: at most {MAX_LENGTH:g} m (10 km) in "
+                                "each coordinate", path, where)
         done = set()
         for i, sphere_ids, a, b, r in _capsules_of_pairs(elements, path):
-            caps.append(LinkCapsule(lk.body, place[:3, :3] @ a + place[:3, 3], place[:3, :3] @ b + place[:3, 3],
-                                    r, lk.name))
+            r = _positive(r, "capsule radius", path, f"link {lk.name!r} collision {i}")
+            parts.append((lk, None, None, ((place[:3, :3] @ a + place[:3, 3], place[:3, :3] @ b + place[:3, 3], r),)))
             done.update((i, *sphere_ids))
             kinds["capsule"] += 1
         for i, (T, g) in enumerate(elements):
@@ -190,7 +203,7 @@ def collision_geometry(sc, frames: list[np.ndarray], max_capsules: int = 3, pack
             if g.sphere is not None:
                 r = _positive(g.sphere.radius, "sphere radius", path, where)
                 c = place[:3, :3] @ T[:3, 3] + place[:3, 3]
-                caps.append(LinkCapsule(lk.body, c, c, r, lk.name))
+                parts.append((lk, None, None, ((c, c, r),)))
                 kinds["sphere"] += 1
                 continue
             if g.box is not None:
@@ -208,20 +221,56 @@ def collision_geometry(sc, frames: list[np.ndarray], max_capsules: int = 3, pack
                 file = resolve_mesh(g.mesh.filename or "", path, package_dirs, where)
                 scale = _scale(g.mesh.scale, path, where)
                 key = (str(file), tuple(scale))
-                if key not in meshes:
-                    V, F = load_mesh(file, path, where)
-                    meshes[key] = enclose_mesh(V * scale, F, max_capsules if len(F) <= SPLIT_TRIANGLES else 1)
-                enc = meshes[key].moved(place @ T)
+                meshes.setdefault(key, (file, scale, where))
+                parts.append((lk, key, place @ T, None))
                 kinds["mesh"] += 1
+                continue
             else:
                 raise UrdfError("its <geometry> holds no box, cylinder, sphere or mesh", path, where)
             over = max(over, enc.over_estimate)
-            caps += [LinkCapsule(lk.body, c.a, c.b, c.radius, lk.name) for c in enc.capsules]
-    caps = [LinkCapsule(c.body, _snap(c.a), _snap(c.b), c.radius, c.name) for c in caps]
+            parts.append((lk, None, None, tuple((c.a, c.b, c.radius) for c in enc.capsules)))
+    fits = _fit_meshes(meshes, path, max_capsules, search, progress)
+    floor = max([over, *(f.lower for f in fits.values())])     # only the largest over-estimate is stated
+    for i, (key, f) in enumerate(fits.items()):
+        over = max(over, f.over_estimate(floor))
+        if progress is not None:
+            progress("stating the over-estimate", i + 1, len(fits))
+    caps = []
+    for lk, key, pose, shapes in parts:
+        if key is not None:
+            R, p = pose[:3, :3], pose[:3, 3]
+            shapes = tuple((R @ c.a + p, R @ c.b + p, c.radius) for c in fits[key].capsules)
+        for a, b, r in shapes:
+            caps.append(LinkCapsule(lk.body, _snap(a), _snap(b), float(r), lk.name))
+    for c in caps:
+        far = max(abs(x) for x in (*c.a, *c.b))
+        if far > MAX_LENGTH or not MIN_LENGTH <= c.radius <= MAX_LENGTH:
+            raise UrdfError(f"a capsule enclosing its collision elements reaches {far:g} m from the body frame with "
+                            f"radius {c.radius:g} m; allowed: at most {MAX_LENGTH:g} m, radius {MIN_LENGTH:g} to "
+                            f"{MAX_LENGTH:g} m", path, f"link {c.name!r}")
     plural = {"mesh": "meshes", "box": "boxes"}
     what = ", ".join(f"{v} {k if v == 1 else plural.get(k, k + 's')}" for k, v in kinds.items() if v)
+    over = 0.0 if over == 0.0 else max(over, MIN_LENGTH)       # a robot file holds 0 or at least 1 nm
     source = (f"urdf: the <collision> elements of {Path(path).name} ({what}), capsules enclosing each "
               f"(over-estimate {over * 1000:.1f} mm)")
     if sc.loose_links:
         source += f"; left out, moved by joints off the chain: {', '.join(sc.loose_links)}"
     return RobotGeometry(tuple(caps), frozenset(), source, None, over)
+
+
+def _fit_meshes(meshes: dict, path: str, max_capsules: int, search: str, progress) -> dict:
+    """Each distinct mesh (file and scale) read and fitted (:func:`kin.geometry.meshfit.fit_mesh`)."""
+    from kin.geometry.meshfit import fit_mesh
+
+    fits = {}
+    for i, (key, (file, scale, where)) in enumerate(meshes.items()):
+        V, F = load_mesh(file, path, where)
+        V = V * scale
+        far = float(np.abs(V).max())
+        if far > MAX_LENGTH:
+            raise UrdfError(f"the mesh's vertices (scale {scale.tolist()}) reach {far:g} m from its origin; allowed: "
+                            f"at most {MAX_LENGTH:g} m (10 km) in each coordinate", path, where)
+        fits[key] = fit_mesh(V, F, max_capsules if len(F) <= SPLIT_TRIANGLES else 1, search=search)
+        if progress is not None:
+            progress("enclosing collision meshes", i + 1, len(meshes))
+    return fits

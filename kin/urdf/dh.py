@@ -127,14 +127,16 @@ def dh_frames(points: np.ndarray, dirs: np.ndarray, tip: np.ndarray) -> list[np.
 
 
 def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str | None = None,
-                      collision: bool = True, max_capsules: int = 3, package_dirs=None) -> Chain:
+                      collision: bool = True, max_capsules: int = 3, package_dirs=None, search: str = "fast",
+                      progress=None) -> Chain:
     """The rmtkit chain (SI; lengths in m, angles in rad) of a URDF serial chain, same FK.
 
     ``convention`` is "standard" or "modified"; ``name`` defaults to the URDF robot's name made
     lower-case with every other character than [a-z0-9] turned into "_".  With ``collision`` the
     links' <collision> elements become the chain's capsules (:mod:`kin.urdf.collision`: up to
-    ``max_capsules`` per mesh, ``package_dirs`` maps package names to directories).  The links'
-    <inertial> elements become the bodies' inertial models (:mod:`kin.urdf.inertial`).
+    ``max_capsules`` per mesh, cut by the ``search`` of :mod:`kin.geometry.meshfit`, ``package_dirs``
+    maps package names to directories, ``progress(stage, done, total)`` hears of each mesh).  The
+    links' <inertial> elements become the bodies' inertial models (:mod:`kin.urdf.inertial`).
     """
     if convention not in ("standard", "modified"):
         raise UrdfError(f"convention {convention!r} unknown; allowed: standard, modified", sc.path)
@@ -160,7 +162,7 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
     geometry = None
     if collision:
         from kin.urdf.collision import collision_geometry
-        geometry = collision_geometry(sc, [*frames, tip], max_capsules, package_dirs)
+        geometry = collision_geometry(sc, [*frames, tip], max_capsules, package_dirs, search, progress)
     chain = Chain(name=name, joints=tuple(joints), convention="standard", geometry=geometry,
                   title=f"{sc.robot_name or name}, {sc.base} to {sc.tip} (imported from URDF)",
                   source=f"converted from the URDF file {sc.path.rsplit('/', 1)[-1]} (chain {sc.base} -> {sc.tip}) "
@@ -183,15 +185,17 @@ def _placement(T: np.ndarray) -> Placement:
 
 def import_urdf(path: str, base: str | None = None, tip: str | None = None, convention: str = "standard",
                 name: str | None = None, collision: bool = True, max_capsules: int = 3,
-                package_dirs=None) -> Chain:
+                package_dirs=None, search: str = "fast", progress=None) -> Chain:
     """Read a URDF file and convert the chain ``base`` → ``tip`` to an rmtkit :class:`~kin.Chain`.
 
     Defaults: base = the root link, tip = the only leaf link (an error lists the leaves when there
     are several).  Fixed joints fold into the neighbouring transforms; revolute, continuous and
     prismatic joints become DH rows in ``convention``; base and tool transforms make FK identical.
     With ``collision`` (default) the links' <collision> elements become capsules on the chain's
-    bodies (:mod:`kin.urdf.collision`); ``collision=False`` skips them (and their mesh files).
+    bodies (:mod:`kin.urdf.collision`; ``search`` "exhaustive" tries every cut of a mesh exactly,
+    slower); ``collision=False`` skips them (and their mesh files).  ``progress(stage, done, total)``
+    is called as meshes are enclosed.
     """
     return chain_from_serial(read_serial_chain(path, base, tip), convention, name, collision, max_capsules,
-                             package_dirs)
+                             package_dirs, search, progress)
 

@@ -3,10 +3,10 @@ test module; tests/kin/geometry/test_bundled_geometry.py re-derives the Panda's 
 example-robot-data, and checks every bundled capsule still holds those meshes).
 
 For an arm with a URDF whose kinematics are the bundled robot file's (same joints, senses and zero
-pose), :func:`fit` imports the URDF with its collision meshes (:func:`kin.urdf.import_urdf`, which
-encloses each mesh by up to three capsules, :mod:`kin.geometry.enclose`), and moves every capsule
-from the imported chain's DH frames into the bundled chain's: body k's frames are both fixed in
-link k, so X_k = F_bundled,k(q)⁻¹ · W · F_imported,k(q) is one constant transform (checked at random
+pose), :func:`fit` imports the URDF with its collision meshes (:func:`kin.urdf.import_urdf` with the
+exhaustive search of :mod:`kin.geometry.meshfit`, which encloses each mesh by up to three capsules),
+and moves every capsule from the imported chain's DH frames into the bundled chain's: body k's
+frames are both fixed in link k, so X_k = F_bundled,k(q)⁻¹ · W · F_imported,k(q) is one constant transform (checked at random
 configurations; W turns the URDF's base link into the bundled base frame, a multiple of 90° about
 z).  :func:`rounded` writes the ends to 0.1 mm and grows each radius to cover the rounding;
 :func:`toml` prints the [geometry] table.  The URDFs of the arms that example-robot-data does not
@@ -131,7 +131,8 @@ def fit(name: str, urdf: str, tip: str, package_dirs=None, max_capsules: int = 3
     their over-estimate; links below the tip (a gripper: the tool body) are left out, the bundled
     arms end at their flange."""
     bundled = kin.load_chain(name)
-    imported = import_urdf(urdf, base=base, tip=tip, max_capsules=max_capsules, package_dirs=package_dirs)
+    imported = import_urdf(urdf, base=base, tip=tip, max_capsules=max_capsules, package_dirs=package_dirs,
+                           search="exhaustive")
     assert imported.n == bundled.n
     X = body_map(bundled, imported, mirror=mirror, zeros=zeros)
     n = bundled.n
