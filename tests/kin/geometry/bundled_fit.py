@@ -6,11 +6,12 @@ For an arm with a URDF whose kinematics are the bundled robot file's (same joint
 pose), :func:`fit` imports the URDF with its collision meshes (:func:`kin.urdf.import_urdf` with the
 exhaustive search of :mod:`kin.geometry.meshfit`, which encloses each mesh by up to three capsules),
 and moves every capsule from the imported chain's DH frames into the bundled chain's: body k's
-frames are both fixed in link k, so X_k = F_bundled,k(q)⁻¹ · W · F_imported,k(q) is one constant transform (checked at random
-configurations; W turns the URDF's base link into the bundled base frame, a multiple of 90° about
-z).  :func:`rounded` writes the ends to 0.1 mm and grows each radius to cover the rounding;
-:func:`toml` prints the [geometry] table.  The URDFs of the arms that example-robot-data does not
-ship were expanded with xacro from their ROS packages (see each robot file's [geometry] source)::
+frames are both fixed in link k, so X_k = F_bundled,k(q)⁻¹ · W · F_imported,k(q) is one constant
+transform (checked at random configurations; W turns the URDF's base link into the bundled base
+frame, a multiple of 90° about z). :func:`rounded` writes the ends to 0.1 mm and grows each radius
+to cover the rounding; :func:`toml` prints the [geometry] table. The URDFs of the arms that
+example-robot-data does not ship were expanded with xacro from their ROS packages (see each robot
+file's [geometry] source)::
 
     from tests.kin.geometry.bundled_fit import fit, rounded, toml
     caps, over = fit("ur5e", "ur5e.urdf", tip="flange", package_dirs={"ur_description": ".../ur_description"})
