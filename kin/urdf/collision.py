@@ -1,13 +1,14 @@
 """The collision geometry of an imported URDF: each <collision> element of a link fixed to a body of
 the chain becomes capsules on that body (:mod:`kin.geometry.enclose`), with its over-estimate.
 
-* **Bodies.** A link belongs to body 0 (the base link and what is fixed to it), to body k (moved by
-  the chain's joint k, with the links fixed to it in any branch) or to the tool (the tip link and
-  the links fixed below it — unless the tip is the last joint's own link, which stays body n).
-  The DH frame of a body is fixed in its links, so a collision origin C of a link whose frame is L
-  (both at q = 0, base-link frame) sits at F⁻¹·L·C in the body's frame F.  Links
-  moved by joints off the chain (a gripper's fingers) cannot ride on any body and are left out; the
-  geometry's ``source`` names them.
+* **Bodies** (:mod:`kin.urdf.read`). A link belongs to body 0 (the base link and what is fixed to
+  it), to body k (moved by the chain's joint k, with the links fixed to it in any branch) or to the
+  tool (every link below the last joint's own link: through fixed joints, and through joints off
+  the chain held at stated values — a gripper's fingers).  The DH frame of a body is fixed in its
+  links, so a collision origin C of a link whose frame is L (both at q = 0, base-link frame) sits at
+  F⁻¹·L·C in the body's frame F.  Links moved by joints off the chain that cannot be held (not below
+  the last joint) ride on no body and are left out; the geometry's ``source`` names them, and the
+  held joints with their values.
 * **Shapes.** A sphere is a capsule; a box and a cylinder are enclosed by one capsule, a mesh by up to
   ``max_capsules`` (:mod:`kin.geometry.meshfit`, ``search`` "fast" or "exhaustive"); a cylinder with
   a sphere of its radius on each end — how :func:`kin.urdf.chain_to_urdf` writes a capsule — is read
@@ -253,6 +254,9 @@ def collision_geometry(sc, frames: list[np.ndarray], max_capsules: int = 3, pack
     over = 0.0 if over == 0.0 else max(over, MIN_LENGTH)       # a robot file holds 0 or at least 1 nm
     source = (f"urdf: the <collision> elements of {Path(path).name} ({what}), capsules enclosing each "
               f"(over-estimate {over * 1000:.1f} mm)")
+    if sc.held:
+        source += "; the tool carries joints off the chain held at " + ", ".join(
+            f"{name} = {q:.6g} ({how})" for name, q, how in sc.held)
     if sc.loose_links:
         source += f"; left out, moved by joints off the chain: {', '.join(sc.loose_links)}"
     return RobotGeometry(tuple(caps), frozenset(), source, None, over)

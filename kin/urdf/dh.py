@@ -167,10 +167,12 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
                   title=f"{sc.robot_name or name}, {sc.base} to {sc.tip} (imported from URDF)",
                   source=f"converted from the URDF file {sc.path.rsplit('/', 1)[-1]} (chain {sc.base} -> {sc.tip}) "
                          "by rmt import-urdf" + ("; continuous joints get limits of one turn [-pi, pi]"
-                                                 if any(j.continuous for j in sc.joints) else ""),
+                                                 if any(j.continuous for j in sc.joints) else "")
+                         + ("; the tool (body n + 1) carries the links of joints off the chain held at "
+                            + ", ".join(f"{nm} = {q:.6g} ({how})" for nm, q, how in sc.held) if sc.held else ""),
                   base=_placement(base), tool=_placement(tool), payload=payload)
     if any(li is not None for li in inertias) or payload is not None:
-        note = "; inertial values from its <inertial> elements (links fixed below the tip: the payload)"
+        note = "; inertial values from its <inertial> elements (the tool's: the payload)"
         if sc.loose_masses:
             note += f", left out (moved by joints off the chain): {', '.join(sc.loose_masses)}"
         chain = replace(chain, source=chain.source + note)

@@ -1,16 +1,17 @@
 """The inertial model of an imported URDF: each link's <inertial> element expressed in the DH frame of
 the body that carries it.
 
-* **Bodies** are those of :mod:`kin.urdf.collision`: body 0 (the base link and what is fixed to it)
+* **Bodies** are those of :mod:`kin.urdf.read`: body 0 (the base link and what is fixed to it)
   does not move and is left out; body k (1 ≤ k ≤ n, moved by joint k) gets the links fixed to it in
-  DH frame k; the tool body (the tip link and what is fixed below it, unless the tip is the last
-  joint's own link) becomes the chain's payload, in the tool frame (a gripper bolted to the flange).
+  DH frame k; the tool body (the links below the last joint's own link: through fixed joints, and
+  through joints off the chain held at their stated values — a gripper and its fingers) becomes the
+  chain's payload, in the tool frame.
 * **Placing.** An <inertial> with origin C (its centre of mass and principal-axes frame) of a link
   whose frame is L (both at q = 0, base-link frame) is, in the body's frame F, at T = F⁻¹·L·C: the
   centre of mass is T's translation and the tensor R·I·Rᵀ with R its rotation.  Several links on
   one body are combined by the parallel-axis theorem (:meth:`kin.dynamics.LinkInertia.combined`).
-* Links moved by joints off the chain (a gripper's fingers) ride on no body: their mass is left out
-  and named in the chain's ``source``.
+* Links moved by joints off the chain that cannot be held (not below the last joint) ride on no
+  body: their mass is left out and named in the chain's ``source``.
 
 Every unphysical value (negative or NaN mass, a tensor that is not positive semi-definite or breaks
 the triangle inequality) is one :class:`~kin.urdf.errors.UrdfError` naming the file and the link.

@@ -5,6 +5,19 @@ movable joint the fixed transform from the previous joint's moving frame (fixed 
 its unit axis and its limits, and the fixed transform from the last joint to the tip link.  Its
 :meth:`SerialChain.fk` is the URDF forward kinematics, ``origin_1·M_1(q_1) ⋯ origin_n·M_n(q_n)·tip``
 with ``M`` a rotation about (revolute, continuous) or a translation along (prismatic) the axis.
+
+* **The tip.** Without ``tip``, the only leaf link below the base; when there are several and they
+  all hang below the same movable joints (they differ only by fixed and mimic joints: a gripper's
+  fingers, a tool frame, a sensor frame), the deepest link that every leaf hangs from through fixed
+  joints (the flange, say) — its FK is the chain's, and the leaves ride on the tool body; otherwise
+  an error lists the leaves.
+* **The tool.** The links below the last movable joint's own link — through fixed joints, and
+  through joints off the chain (a gripper's fingers), which are *held*: at 0, or the limit nearest 0
+  when 0 is outside their limits; a mimic joint at multiplier × its leader's held value + offset —
+  make the tool body (:class:`RigidLink`); :attr:`SerialChain.held` says which joint is held where.
+* **Numbers.** Every number read is checked against what a robot file holds (lengths up to 10 km,
+  revolute limits within ±8π, efforts up to 10⁷, speeds finite and ≥ 0): one :class:`UrdfError`
+  naming the file, the joint and the field otherwise.
 """
 from __future__ import annotations
 
@@ -16,12 +29,11 @@ from typing import Literal
 
 import numpy as np
 
+from kin.robotfile import MAX_LENGTH, MAX_REVOLUTE_LIMIT, MAX_TORQUE, MIN_LENGTH
 from kin.urdf.errors import UrdfError
 
 #: range given to a continuous joint (one turn: every orientation), rad
 CONTINUOUS_LIMITS = (-math.pi, math.pi)
-#: a revolute range beyond this (rad) is refused, as the robot-file loader refuses it
-MAX_REVOLUTE_LIMIT = 8 * math.pi
 MOVABLE = ("revolute", "continuous", "prismatic")
 REFUSED = {"floating": "a floating joint (6 degrees of freedom) is not a serial-chain joint",
            "planar": "a planar joint (3 degrees of freedom) is not a serial-chain joint"}
@@ -45,10 +57,10 @@ class UrdfJoint:
 @dataclass(frozen=True)
 class RigidLink:
     """A link rigidly attached to one body of the chain: ``body`` 0 (the base link and what is fixed
-    to it), k (moved by the chain's joint k), n + 1 (the tool: the tip link and what is fixed below
-    it, unless the tip is the last joint's own link); ``pose`` its frame in the base link's frame at
-    q = 0; ``collisions`` its <collision> elements (yourdfpy's); ``inertial`` its <inertial> (yourdfpy's
-    or None)."""
+    to it), k (moved by the chain's joint k), n + 1 (the tool: every link below the last joint's own
+    link, through fixed joints and held joints off the chain); ``pose`` its frame in the base link's
+    frame at q = 0 (held joints at their held values); ``collisions`` its <collision> elements
+    (yourdfpy's); ``inertial`` its <inertial> (yourdfpy's or None)."""
 
     name: str
     body: int
@@ -61,10 +73,12 @@ class RigidLink:
 class SerialChain:
     """The serial chain from ``base`` to ``tip`` of a URDF file (SI units).
 
-    ``links``: every link rigidly attached to a body of the chain (through fixed joints, in any
-    branch); ``loose_links``: links that hold <collision> elements but move with a joint off the
-    chain (a gripper's fingers), which no body can carry; ``loose_masses``: those of the links moved
-    by joints off the chain that have a mass (their inertial values are left out too).
+    ``links``: every link rigidly attached to a body of the chain (through fixed joints in any
+    branch, and held joints below the last joint); ``held``: (joint, value in rad or m, how) of each
+    joint off the chain held for the tool; ``loose_links``: links that hold <collision> elements but
+    move with a joint off the chain that no body can carry (not below the last joint, or mimicking
+    a joint of the chain); ``loose_masses``: those of such links that have a mass (left out too);
+    ``tip_note``: why the tip was chosen, when it was not given and several leaves exist.
     """
 
     path: str
@@ -76,6 +90,8 @@ class SerialChain:
     links: tuple[RigidLink, ...] = ()
     loose_links: tuple[str, ...] = ()
     loose_masses: tuple[str, ...] = ()
+    held: tuple[tuple[str, float, str], ...] = ()
+    tip_note: str = ""
 
     @property
     def n(self) -> int:
@@ -167,12 +183,16 @@ def read_serial_chain(path: str | Path, base: str | None = None, tip: str | None
     base = roots[0] if base is None else base
     if base not in children:
         raise UrdfError(f"base link {base!r} is not defined; links: {', '.join(links)}", path)
+    tip_note = ""
     if tip is None:
         leaves = _leaves_below(base, children)
-        if len(leaves) != 1:
+        tip = leaves[0] if len(leaves) == 1 else _common_tip(base, leaves, parent_joint)
+        if tip is None:
             raise UrdfError(f"the tree below {base!r} has {len(leaves)} leaf links; choose the tip link "
                             f"(--tip) from: {', '.join(leaves)}", path)
-        tip = leaves[0]
+        if len(leaves) > 1:
+            tip_note = (f"tip {tip!r}: the link that all {len(leaves)} leaves hang from through fixed and mimic "
+                        f"joints ({', '.join(leaves)}: another tip with --tip)")
     if tip not in children:
         raise UrdfError(f"tip link {tip!r} is not defined; links: {', '.join(links)}", path)
 
@@ -191,10 +211,8 @@ def read_serial_chain(path: str | Path, base: str | None = None, tip: str | None
     joints: list[UrdfJoint] = []
     acc = np.eye(4)
     for j in path_joints:
-        origin = np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=float)
         el = f"joint {j.name!r}"
-        if not np.all(np.isfinite(origin)):
-            raise UrdfError("its <origin> holds a NaN or infinite value", path, el)
+        origin = _checked_origin(j, path)
         if j.type == "fixed":
             acc = acc @ origin
             continue
@@ -210,29 +228,38 @@ def read_serial_chain(path: str | Path, base: str | None = None, tip: str | None
         acc = np.eye(4)
     if not joints:
         raise UrdfError(f"the chain {base!r} → {tip!r} has no revolute, continuous or prismatic joint", path)
-    links, loose, loose_masses = _rigid_links(robot, base, tip, path_joints, parent_joint, children, len(joints))
+    links, loose, loose_masses, held = _rigid_links(robot, base, path_joints, parent_joint, children, path)
     return SerialChain(path=path, robot_name=robot.name or "", base=base, tip=tip, joints=tuple(joints),
-                       tip_offset=acc, links=links, loose_links=loose, loose_masses=loose_masses)
+                       tip_offset=acc, links=links, loose_links=loose, loose_masses=loose_masses, held=held,
+                       tip_note=tip_note)
 
 
 def _origin(j) -> np.ndarray:
     return np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=float)
 
 
-def _rigid_links(robot, base: str, tip: str, path_joints, parent_joint, children, n: int):
+def _checked_origin(j, path: str) -> np.ndarray:
+    """The joint's <origin> (4, 4), refused when not finite or farther than a robot file reaches."""
+    origin = _origin(j)
+    el = f"joint {j.name!r}"
+    if not np.all(np.isfinite(origin)):
+        raise UrdfError("its <origin> holds a NaN or infinite value", path, el)
+    far = float(np.abs(origin[:3, 3]).max())
+    if far > MAX_LENGTH:
+        raise UrdfError(f"its <origin> xyz {origin[:3, 3].tolist()} reaches {far:g} m; allowed: at most "
+                        f"{MAX_LENGTH:g} m (10 km) in each coordinate", path, el)
+    return origin
+
+
+def _rigid_links(robot, base: str, path_joints, parent_joint, children, path: str):
     """The links fixed to each body of the chain and their poses at q = 0 (see :class:`RigidLink`),
-    and the links with collision elements that no body carries."""
+    the links with collision elements and with masses that no body carries, and the held joints."""
     by_name = {lk.name: lk for lk in robot.links}
-    on_path = {j.name: k for k, j in enumerate((j for j in path_joints if j.type != "fixed"), 1)}
-    tool = {tip}
-    stack = [tip]
-    while stack:                                    # the tip's subtree through fixed joints: the tool
-        for j in children[stack.pop()]:
-            if j.type == "fixed":
-                tool.add(j.child)
-                stack.append(j.child)
-    if parent_joint[tip].type != "fixed":           # the tip is the last joint's link: body n
-        tool.discard(tip)
+    movable = [j for j in path_joints if j.type != "fixed"]
+    on_path = {j.name: k for k, j in enumerate(movable, 1)}
+    n, last = len(movable), movable[-1].child          # the last joint's own link: body n
+    held_at = _held_positions(robot, on_path, path)
+    held: list[tuple[str, float, str]] = []
     found: dict[str, tuple[int, np.ndarray]] = {base: (0, np.eye(4))}
     stack = [base]
     while stack:
@@ -244,11 +271,16 @@ def _rigid_links(robot, base: str, tip: str, path_joints, parent_joint, children
         for other, j, up in neighbours:
             if other in found:
                 continue
+            below = body == n + 1 or link == last     # in the tool's part of the tree
             if j.type == "fixed":
-                b = n + 1 if (body == n and other in tool) else body
-                found[other] = (b, pose @ (np.linalg.inv(_origin(j)) if up else _origin(j)))
+                b = n + 1 if below else body
+                found[other] = (b, pose @ (np.linalg.inv(_checked_origin(j, path)) if up else _checked_origin(j, path)))
             elif not up and j.name in on_path:
                 found[other] = (on_path[j.name], pose @ _origin(j))
+            elif not up and below and held_at(j.name) is not None:
+                uj, q, how = held_at(j.name)
+                found[other] = (n + 1, pose @ _checked_origin(j, path) @ joint_motion(uj, q))
+                held.append((j.name, q, how))
             else:
                 continue
             stack.append(other)
@@ -257,10 +289,48 @@ def _rigid_links(robot, base: str, tip: str, path_joints, parent_joint, children
     loose = tuple(lk.name for lk in robot.links if lk.name not in found and lk.collisions)
     loose_masses = tuple(lk.name for lk in robot.links if lk.name not in found and lk.inertial is not None
                          and lk.inertial.mass)
-    return links, loose, loose_masses
+    return links, loose, loose_masses, tuple(held)
 
 
-def _movable(j, origin: np.ndarray, path: str, el: str) -> UrdfJoint:
+def _held_positions(robot, on_path: dict[str, int], path: str):
+    """A function: the name of a revolute, continuous or prismatic joint off the chain → (its
+    :class:`UrdfJoint`, the value it is held at, how — "0", "the limit nearest 0" or "mimic of
+    LEADER"), or None when it cannot be held (it mimics a joint of the chain, directly or through
+    others, or is of another type)."""
+    joints = {j.name: j for j in robot.joints}
+    out: dict[str, tuple | None] = {}
+
+    def value(name: str, seen: tuple[str, ...] = ()) -> tuple | None:
+        if name in out:
+            return out[name]
+        j = joints.get(name)
+        if j is None or name in on_path or name in seen or j.type not in MOVABLE:
+            return None
+        el = f"joint {name!r}"
+        uj = _movable(j, np.eye(4), path, el, held=True)
+        if j.mimic is not None:
+            leader = value(j.mimic.joint, (*seen, name))
+            if leader is None:
+                out[name] = None
+                return None
+            mult = 1.0 if j.mimic.multiplier is None else float(j.mimic.multiplier)
+            off = 0.0 if j.mimic.offset is None else float(j.mimic.offset)
+            q = mult * leader[1] + off
+            if not math.isfinite(q):
+                raise UrdfError(f"its <mimic> multiplier = {mult:g}, offset = {off:g} give a held value {q:g}; "
+                                "allowed: finite numbers", path, el)
+            out[name] = (uj, q, f"mimic of {j.mimic.joint}")
+        else:
+            lo, hi = uj.limits
+            q = min(max(0.0, lo), hi)
+            out[name] = (uj, q, "0" if q == 0.0 else "the limit nearest 0")
+        return out[name]
+    return value
+
+
+def _movable(j, origin: np.ndarray, path: str, el: str, held: bool = False) -> UrdfJoint:
+    """The joint as a :class:`UrdfJoint`, every value checked; ``held``: a joint off the chain held
+    for the tool (its limits may be missing: then only 0 is allowed)."""
     axis = np.array([1.0, 0.0, 0.0]) if j.axis is None else np.asarray(j.axis, dtype=float)
     norm = float(np.linalg.norm(axis)) if axis.shape == (3,) else 0.0
     if not np.all(np.isfinite(axis)) or norm < 1e-9:
@@ -271,26 +341,38 @@ def _movable(j, origin: np.ndarray, path: str, el: str) -> UrdfJoint:
                         path, el)
     axis = axis / norm
     lim = j.limit
-    velocity = None
-    if lim is not None and lim.velocity is not None and math.isfinite(lim.velocity) and lim.velocity > 0:
-        velocity = float(lim.velocity)
+    unit = "rad" if j.type != "prismatic" else "m"
+    velocity = None     # URDF requires velocity; 0 is what writers put when it is unknown
+    if lim is not None and lim.velocity is not None:
+        v = float(lim.velocity)
+        if not math.isfinite(v) or v < 0:
+            raise UrdfError(f"<limit> velocity = {v:g}; allowed: a finite number ≥ 0 ({unit}/s; 0: unknown)", path, el)
+        velocity = v if v > 0 else None
     effort = None      # URDF requires effort; 0 (or a missing one) is what writers put when it is unknown
     if lim is not None and lim.effort is not None:
         e = float(lim.effort)
-        if not math.isfinite(e) or e < 0:
-            raise UrdfError(f"<limit> effort = {e:g} must be a finite number ≥ 0 (N·m or N; 0: unknown)", path, el)
+        if not math.isfinite(e) or e < 0 or e > MAX_TORQUE:
+            raise UrdfError(f"<limit> effort = {e:g}; allowed: 0 to {MAX_TORQUE:g} "
+                            f"({'N·m' if j.type != 'prismatic' else 'N'}; 0: unknown)", path, el)
         effort = e if e > 0 else None
     if j.type == "continuous":
         return UrdfJoint(j.name, "revolute", origin, axis, CONTINUOUS_LIMITS, velocity, continuous=True,
                          max_torque=effort)
     if lim is None or lim.lower is None or lim.upper is None:
+        if held:
+            return UrdfJoint(j.name, j.type, origin, axis, (0.0, 0.0), velocity, max_torque=effort)
         raise UrdfError(f"a {j.type} joint needs <limit lower=… upper=…>", path, el)
     lo, hi = float(lim.lower), float(lim.upper)
-    if not (math.isfinite(lo) and math.isfinite(hi)) or not lo < hi:
+    if not (math.isfinite(lo) and math.isfinite(hi)) or not (lo <= hi if held else lo < hi):
         raise UrdfError(f"<limit> lower = {lo:g}, upper = {hi:g} must be finite with lower < upper "
                         "(a joint that cannot move should be fixed)", path, el)
     if j.type == "revolute" and max(abs(lo), abs(hi)) > MAX_REVOLUTE_LIMIT:
         raise UrdfError(f"<limit> [{lo:g}, {hi:g}] rad exceeds ±8π rad, four turns", path, el)
+    if j.type == "prismatic":
+        for name, x in (("lower", lo), ("upper", hi)):
+            if abs(x) > MAX_LENGTH or 0 < abs(x) < MIN_LENGTH:
+                raise UrdfError(f"<limit> {name} = {x:g} m; allowed: 0 or {MIN_LENGTH:g} to {MAX_LENGTH:g} m "
+                                "in magnitude (1 nm to 10 km)", path, el)
     return UrdfJoint(j.name, j.type, origin, axis, (lo, hi), velocity, max_torque=effort)
 
 
@@ -303,6 +385,33 @@ def _leaves_below(base: str, children: dict[str, list]) -> list[str]:
             leaves.append(link)
         stack.extend(reversed(kids))
     return leaves
+
+
+def _common_tip(base: str, leaves: list[str], parent_joint: dict) -> str | None:
+    """The default tip when several leaves hang below the same movable joints (those neither fixed
+    nor mimic): the deepest link on every leaf's path that the last of those joints' link reaches
+    through fixed joints; None when the leaves differ in their movable joints (or have none)."""
+    paths = []
+    for leaf in leaves:
+        joints, link = [], leaf
+        while link != base:
+            joints.append(parent_joint[link])
+            link = parent_joint[link].parent
+        paths.append(joints[::-1])
+    actuated = {tuple(j.name for j in p if j.type != "fixed" and j.mimic is None) for p in paths}
+    if len(actuated) != 1 or not next(iter(actuated)):
+        return None
+    common = 0
+    while all(len(p) > common and p[common].name == paths[0][common].name for p in paths):
+        common += 1
+    shared = paths[0][:common]
+    last = max(i for i, j in enumerate(shared) if j.type != "fixed" and j.mimic is None)
+    tip = shared[last].child
+    for j in shared[last + 1:]:                 # down from the last joint's link through fixed joints
+        if j.type != "fixed":
+            break
+        tip = j.child
+    return tip
 
 
 def _ancestors(link: str, parent_joint: dict) -> list[str]:

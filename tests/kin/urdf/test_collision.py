@@ -6,7 +6,8 @@
 * Export: re-read with yourdfpy, each capsule is a cylinder and two spheres equal to it; coal's
   distances to those solids are the capsule's; export → import gives the same capsules exactly.
 * Synthetic URDFs: primitives, mesh paths (relative, package://, given package directories), the
-  tool body, links off the chain left out, and every bad mesh a one-line UrdfError.
+  tool body with a finger held at 0, links off the chain left out, and every bad mesh or size a
+  one-line UrdfError.
 """
 from __future__ import annotations
 
@@ -95,9 +96,11 @@ def test_imported_capsules_hold_every_mesh_vertex(relative, tip, capsules, conve
             caps = [c for c in g.capsules if c.body == body_of[link]]
             assert caps, link
             assert outside(world, caps, F) <= 1e-9, link
-    if "panda" in relative:     # the fingers move on their own joints: left out, and said so
-        assert "left out, moved by joints off the chain: panda_leftfinger, panda_rightfinger" in g.source
-        assert {c.body for c in g.capsules} == set(range(chain.n + 2))       # the hand is the tool
+    if "panda" in relative:     # the fingers' joints are held at 0 (yourdfpy's default too): on the tool
+        assert "held at panda_finger_joint1 = 0 (0), panda_finger_joint2 = 0 (mimic of panda_finger_joint1)" in g.source
+        assert {body_of["panda_leftfinger"], body_of["panda_rightfinger"], body_of["panda_hand"]} == {chain.n + 1}
+        assert {"panda_leftfinger", "panda_rightfinger"} <= {s[0] for s in carried}
+        assert {c.body for c in g.capsules} == set(range(chain.n + 2))
 
 
 def capsule_solids(urdf_path: Path, q, names):
@@ -273,9 +276,9 @@ def test_synthetic_urdf_bodies_and_shapes(tmp_path):
     chain = import_urdf(str(path), base="world", tip="flange")
     g = chain.geometry
     names = {(c.name, c.body) for c in g.capsules}     # capsules are named after their link
-    assert names == {("world", 0), ("base", 0), ("arm", 1), ("fore", 2), ("gripper", 3)}   # the gripper: tool
-    assert "left out, moved by joints off the chain: finger" in g.source
-    assert "2 meshes, 2 boxes, 1 cylinder, 1 sphere" in g.source
+    assert names == {("world", 0), ("base", 0), ("arm", 1), ("fore", 2), ("gripper", 3), ("finger", 3)}   # tool
+    assert "held at finger = 0 (0)" in g.source and "left out" not in g.source
+    assert "2 meshes, 3 boxes, 1 cylinder, 1 sphere" in g.source
     # every solid inside at random configurations, by the URDF's own kinematics
     import yourdfpy
     model = yourdfpy.URDF.load(str(path), build_scene_graph=True, load_meshes=False)
@@ -283,8 +286,9 @@ def test_synthetic_urdf_bodies_and_shapes(tmp_path):
               "base": trimesh.creation.cylinder(0.1, 0.3).apply_translation((0, 0, 0.15)),
               "arm": trimesh.creation.box((0.4, 0.06, 0.06)).apply_translation((0.2, 0, 0)),
               "fore": trimesh.creation.box((0.2, 0.06, 0.06)),
-              "gripper": trimesh.creation.box((0.05, 0.1, 0.05))}
-    body = {"world": 0, "base": 0, "arm": 1, "fore": 2, "gripper": 3}
+              "gripper": trimesh.creation.box((0.05, 0.1, 0.05)),
+              "finger": trimesh.creation.box((0.01, 0.01, 0.05))}
+    body = {"world": 0, "base": 0, "arm": 1, "fore": 2, "gripper": 3, "finger": 3}
     for q in np.random.default_rng(0).uniform(-2, 2, size=(5, 2)):
         model.update_cfg({"j1": q[0], "j2": q[1]})
         F = body_frames(chain, q)[0]
@@ -341,3 +345,24 @@ def test_bad_primitives(tmp_path):
 
 def test_erd_urdf_path_helper_matches_prefix():
     assert ERD_ROBOTS.endswith("example-robot-data/robots")
+
+
+@pytest.mark.parametrize("geometry, xyz, message", [
+    ('<sphere radius="1e-12"/>', "0 0 0", r"the sphere radius 1e-12 m; allowed: 1e-09 to 10000 m \(1 nm to 10 km\)"),
+    ('<box size="0.1 2e4 0.1"/>', "0 0 0", r"the box size 20000 m; allowed: 1e-09 to 10000 m"),
+    ('<sphere radius="0.1"/>', "0 3e5 0", r"its <origin> xyz \[0.0, 300000.0, 0.0\]; allowed: at most 10000 m"),
+    ('<mesh filename="meshes/huge.stl"/>', "0 0 0",
+     r"mesh 'meshes/huge.stl': the mesh's vertices \(scale \[1.0, 1.0, 1.0\]\) reach 3e\+38 m from its origin; "
+     r"allowed: at most 10000 m"),
+])
+def test_sizes_a_robot_file_cannot_hold_are_refused(tmp_path, geometry, xyz, message):
+    """Sizes beyond a robot file's range (1 nm to 10 km) — a URDF's own or a mesh's ±3e38 vertices — are
+    one line naming the link and the element, never a robot file the reader refuses."""
+    stl(tmp_path / "meshes" / "huge.stl", trimesh.Trimesh(np.array([[0, 0, 0], [3e38, 0, 0], [0, -3e38, 0]]),
+                                                         np.array([[0, 1, 2]]), process=False))
+    path = write(tmp_path, {"a": "", "b": col(geometry, xyz)}, j("j1", "revolute", "a", "b"))
+    with pytest.raises(UrdfError) as e:
+        import_urdf(str(path))
+    import re
+    assert str(e.value).startswith(f"{path}: link 'b' collision 0") and "\n" not in str(e.value)
+    assert re.search(message, str(e.value)), str(e.value)

@@ -35,12 +35,43 @@ def _origin(el):
     return T
 
 
+def _held(joints, name, on_path):
+    """The value a joint off the chain is held at, from the XML: 0 clipped into its limits, a mimic
+    joint at multiplier × its leader's + offset; None when it follows a joint of the chain."""
+    j = joints[name]
+    mimic = j.find("mimic")
+    if mimic is not None:
+        lead = mimic.get("joint")
+        if lead in on_path:
+            return None
+        q = _held(joints, lead, on_path)
+        return None if q is None else float(mimic.get("multiplier", 1)) * q + float(mimic.get("offset", 0))
+    lim = j.find("limit")
+    if lim is None or j.get("type") == "continuous":
+        return 0.0
+    return min(max(0.0, float(lim.get("lower", 0))), float(lim.get("upper", 0)))
+
+
+def _motion(j, q):
+    axis = np.array([float(x) for x in (j.find("axis").get("xyz") if j.find("axis") is not None else "1 0 0").split()])
+    axis /= np.linalg.norm(axis)
+    M = np.eye(4)
+    if j.get("type") == "prismatic":
+        M[:3, 3] = q * axis
+    else:
+        K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+        M[:3, :3] = np.eye(3) + math.sin(q) * K + (1 - math.cos(q)) * K @ K
+    return M
+
+
 def xml_bodies(path, tip):
     """From the XML: the links of the chain root → tip (and what is fixed to them), each link's pose at
-    q = 0, which body it rides on (joint count along the path; the tip's fixed subtree: n + 1), its
-    mass and its centre of mass (base frame)."""
+    q = 0, which body it rides on (joint count along the path; below the last joint's own link, through
+    fixed joints and joints off the chain held at 0 clipped into their limits: n + 1), its mass and its
+    centre of mass (base frame)."""
     root = ET.parse(path).getroot()
     joints = root.findall("joint")
+    by_name = {j.get("name"): j for j in joints}
     parent = {j.find("child").get("link"): j for j in joints}
     links = {lk.get("name"): lk for lk in root.findall("link")}
     base = next(n for n in links if n not in parent)
@@ -50,33 +81,29 @@ def xml_bodies(path, tip):
         link = parent[link].find("parent").get("link")
     chain.reverse()
     movable = [j.get("name") for j in chain if j.get("type") != "fixed"]
+    n = len(movable)
+    last = by_name[movable[-1]].find("child").get("link")
     pose, body = {base: np.eye(4)}, {base: 0}
     stack = [base]
     while stack:
         lk = stack.pop()
+        below = body[lk] == n + 1 or lk == last
         for j in joints:
             if j.find("parent").get("link") != lk:
                 continue
             child = j.find("child").get("link")
             if j.get("type") == "fixed":
-                body[child] = body[lk]
+                body[child] = n + 1 if below else body[lk]
+                pose[child] = pose[lk] @ _origin(j)
             elif j.get("name") in movable:
                 body[child] = movable.index(j.get("name")) + 1
+                pose[child] = pose[lk] @ _origin(j)
+            elif below and _held(by_name, j.get("name"), movable) is not None:
+                body[child] = n + 1                        # a gripper finger, held
+                pose[child] = pose[lk] @ _origin(j) @ _motion(j, _held(by_name, j.get("name"), movable))
             else:
-                continue                                   # off the chain: a gripper finger
-            pose[child] = pose[lk] @ _origin(j)
+                continue
             stack.append(child)
-    n = len(movable)
-    below = {tip}
-    stack = [tip]
-    while stack:
-        lk = stack.pop()
-        for j in joints:
-            if j.find("parent").get("link") == lk and j.get("type") == "fixed":
-                below.add(j.find("child").get("link"))
-                stack.append(j.find("child").get("link"))
-    if parent[tip].get("type") != "fixed":
-        below.discard(tip)
     out = {}
     for name, T in pose.items():
         el = links[name].find("inertial")
@@ -84,7 +111,7 @@ def xml_bodies(path, tip):
             continue
         m = float(el.find("mass").get("value"))
         c = (T @ _origin(el))[:3, 3]
-        k = n + 1 if name in below else body[name]
+        k = body[name]
         M, C = out.get(k, (0.0, np.zeros(3)))
         out[k] = (M + m, C + m * c)
     return {k: (m, C / m if m else C) for k, (m, C) in out.items() if m > 0}, n
@@ -111,10 +138,13 @@ def test_masses_and_centres_of_mass_match_the_xml(relative, tip, convention):
         np.testing.assert_allclose(F[:3, :3] @ li.com + F[:3, 3], c, atol=1e-12, err_msg=f"body {k}")
 
 
-def test_panda_hand_is_the_payload_and_fingers_are_named():
+def test_panda_payload_is_the_hand_and_its_fingers_held():
+    """The fingers' prismatic joints (one mimics the other) are held at 0 and ride with the hand: the
+    payload is 0.73 + 2 × 0.015 kg (the URDF's masses), and the source says where they are held."""
     chain = import_urdf(str(erd_urdf("panda_description/urdf/panda.urdf")), tip="panda_link8", collision=False)
-    assert math.isclose(chain.payload.mass, 0.73)
-    assert "left out (moved by joints off the chain): panda_leftfinger, panda_rightfinger" in chain.source
+    assert math.isclose(chain.payload.mass, 0.73 + 2 * 0.015)
+    assert "held at panda_finger_joint1 = 0 (0), panda_finger_joint2 = 0 (mimic of panda_finger_joint1)" in chain.source
+    assert "left out" not in chain.source
 
 
 def test_tensor_is_turned_into_the_body_frame():
@@ -207,3 +237,4 @@ def test_bundled_panda_carries_the_urdf_inertials():
             np.testing.assert_allclose(F1[:3, :3] @ a.com + F1[:3, 3], F2[:3, :3] @ b.com + F2[:3, 3], atol=1e-12)
             np.testing.assert_allclose(F1[:3, :3] @ a.tensor @ F1[:3, :3].T, F2[:3, :3] @ b.tensor @ F2[:3, :3].T,
                                        atol=1e-12)
+
