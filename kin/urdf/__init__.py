@@ -5,9 +5,9 @@ transforms, same FK), and any chain as a URDF with simple cylinder visuals.
 >>> chain = import_urdf("ur5_robot.urdf", tip="tool0", convention="standard")   # doctest: +SKIP
 """
 from kin.urdf.dh import chain_from_serial, dh_frames, import_urdf
-from kin.urdf.errors import UrdfError
+from kin.urdf.errors import UrdfError, UrdfWarning
 from kin.urdf.read import SerialChain, UrdfJoint, read_serial_chain
 from kin.urdf.write import chain_to_urdf, save_urdf
 
 __all__ = ["import_urdf", "chain_from_serial", "dh_frames", "read_serial_chain", "SerialChain", "UrdfJoint",
-           "chain_to_urdf", "save_urdf", "UrdfError"]
+           "chain_to_urdf", "save_urdf", "UrdfError", "UrdfWarning"]

@@ -157,7 +157,7 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
     from dataclasses import replace
 
     from kin.urdf.inertial import inertial_model
-    inertias, payload = inertial_model(sc, [*frames, tip])
+    inertias, payload, placeholders = inertial_model(sc, [*frames, tip])
     joints = [replace(j, inertia=li) for j, li in zip(joints, inertias)]
     geometry = None
     if collision:
@@ -176,6 +176,9 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
         if sc.loose_masses:
             note += f", left out (moved by joints off the chain): {', '.join(sc.loose_masses)}"
         chain = replace(chain, source=chain.source + note)
+    if placeholders:
+        chain = replace(chain, source=f"{chain.source}; placeholder inertials (mass 0 with a tensor) left out: "
+                                      f"{', '.join(placeholders)}")
     return chain.to_modified() if convention == "modified" else chain
 
 
@@ -190,13 +193,15 @@ def import_urdf(path: str, base: str | None = None, tip: str | None = None, conv
                 package_dirs=None, search: str = "fast", progress=None) -> Chain:
     """Read a URDF file and convert the chain ``base`` → ``tip`` to an rmtkit :class:`~kin.Chain`.
 
-    Defaults: base = the root link, tip = the only leaf link (an error lists the leaves when there
-    are several).  Fixed joints fold into the neighbouring transforms; revolute, continuous and
-    prismatic joints become DH rows in ``convention``; base and tool transforms make FK identical.
-    With ``collision`` (default) the links' <collision> elements become capsules on the chain's
-    bodies (:mod:`kin.urdf.collision`; ``search`` "exhaustive" tries every cut of a mesh exactly,
-    slower); ``collision=False`` skips them (and their mesh files).  ``progress(stage, done, total)``
-    is called as meshes are enclosed.
+    Defaults: base = the root link, tip = the only leaf link, or the link every leaf hangs from
+    through fixed and mimic joints (:mod:`kin.urdf.read`; an error lists the leaves otherwise).
+    Fixed joints fold into the neighbouring transforms; revolute, continuous and prismatic joints
+    become DH rows in ``convention``; base and tool transforms make FK identical.  With
+    ``collision`` (default) the links' <collision> elements become capsules on the chain's bodies
+    (:mod:`kin.urdf.collision`; ``search`` "exhaustive" tries every cut of a mesh exactly, slower);
+    ``collision=False`` skips them (and their mesh files).  ``progress(stage, done, total)`` is
+    called as meshes are enclosed.  Placeholder inertials are left out with a
+    :class:`~kin.urdf.errors.UrdfWarning`.
     """
     return chain_from_serial(read_serial_chain(path, base, tip), convention, name, collision, max_capsules,
                              package_dirs, search, progress)

@@ -1,4 +1,4 @@
-"""The error of URDF reading and writing: one line naming the file and the element."""
+"""The error and the warning of URDF reading and writing: one line naming the file and the element."""
 from __future__ import annotations
 
 from kin.errors import RmtError
@@ -15,3 +15,8 @@ class UrdfError(RmtError):
         self.element = element
         where = ": ".join(x for x in (path, element) if x)
         super().__init__(f"{where}: {message}" if where else message)
+
+
+class UrdfWarning(UserWarning):
+    """A URDF holds something rmtkit leaves out and says so (a placeholder <inertial>: mass 0 with a
+    non-zero tensor); one line naming the file and the element."""

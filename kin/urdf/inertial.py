@@ -12,21 +12,27 @@ the body that carries it.
   one body are combined by the parallel-axis theorem (:meth:`kin.dynamics.LinkInertia.combined`).
 * Links moved by joints off the chain that cannot be held (not below the last joint) ride on no
   body: their mass is left out and named in the chain's ``source``.
+* A **placeholder** — mass 0 with a non-zero tensor, which some URDFs give massless frames — is left
+  out with a :class:`~kin.urdf.errors.UrdfWarning` naming the link.
 
 Every unphysical value (negative or NaN mass, a tensor that is not positive semi-definite or breaks
-the triangle inequality) is one :class:`~kin.urdf.errors.UrdfError` naming the file and the link.
+the triangle inequality, a centre of mass beyond 10 km) is one :class:`~kin.urdf.errors.UrdfError`
+naming the file and the link.
 """
 from __future__ import annotations
+
+import warnings
 
 import numpy as np
 
 from kin.dynamics.inertia import InertiaError, LinkInertia
-from kin.urdf.errors import UrdfError
+from kin.robotfile import MAX_LENGTH
+from kin.urdf.errors import UrdfError, UrdfWarning
 
 
 def link_inertia(lk, path: str) -> LinkInertia | None:
     """The <inertial> of ``lk`` (a :class:`~kin.urdf.read.RigidLink`) in its own link frame; None when it
-    has none or its mass is 0."""
+    has none or its mass is 0 (a placeholder too: mass 0 with a non-zero tensor)."""
     el = lk.inertial
     if el is None:
         return None
@@ -36,8 +42,11 @@ def link_inertia(lk, path: str) -> LinkInertia | None:
     I3 = np.zeros((3, 3)) if el.inertia is None else np.asarray(el.inertia, dtype=float)
     if not np.all(np.isfinite(C)) or not np.isfinite(m) or I3.shape != (3, 3) or not np.all(np.isfinite(I3)):
         raise UrdfError("its <origin>, <mass> or <inertia> holds a NaN or infinite value", path, where)
-    if m == 0.0 and not I3.any():
+    if m == 0.0:
         return None
+    if np.abs(C[:3, 3]).max() > MAX_LENGTH:
+        raise UrdfError(f"its <origin> xyz {C[:3, 3].tolist()} (the centre of mass); allowed: at most "
+                        f"{MAX_LENGTH:g} m (10 km) in each coordinate", path, where)
     try:
         li = LinkInertia(float(m), (0.0, 0.0, 0.0), (I3[0, 0], I3[1, 1], I3[2, 2], I3[0, 1], I3[0, 2], I3[1, 2]))
     except InertiaError as e:
@@ -45,18 +54,32 @@ def link_inertia(lk, path: str) -> LinkInertia | None:
     return li.transformed(C)
 
 
-def inertial_model(sc, frames: list[np.ndarray]) -> tuple[list[LinkInertia | None], LinkInertia | None]:
+def placeholder(lk) -> bool:
+    """Whether the <inertial> of ``lk`` is a placeholder: mass 0 with a non-zero tensor."""
+    el = lk.inertial
+    return el is not None and not el.mass and el.inertia is not None and bool(np.asarray(el.inertia).any())
+
+
+def inertial_model(sc, frames: list[np.ndarray]) -> tuple[list[LinkInertia | None], LinkInertia | None, list[str]]:
     """The inertial models of bodies 1 … n (DH frames 1 … n) and the payload (tool frame) of the chain's
     links; ``frames`` are the poses at q = 0 (base-link frame) of bodies 0 … n + 1 (DH frames 0 … n,
-    then the tip).  A body without any <inertial> (or only massless ones) gets None."""
+    then the tip).  A body without any <inertial> (or only massless ones) gets None.  Placeholders
+    (:func:`placeholder`) are left out with a :class:`UrdfWarning` each, and named: the third item."""
     n = sc.n
     parts: dict[int, list[LinkInertia]] = {}
+    placeholders: list[str] = []
     inv = [np.linalg.inv(F) for F in frames]
     for lk in sc.links:
         if lk.body == 0:
             continue
         li = link_inertia(lk, sc.path)
         if li is None:
+            if placeholder(lk):
+                I3 = np.asarray(lk.inertial.inertia, dtype=float)
+                warnings.warn(UrdfWarning(f"{sc.path}: link {lk.name!r} inertial: mass 0 with the inertia tensor "
+                                          f"diagonal {I3[0, 0]:g} {I3[1, 1]:g} {I3[2, 2]:g} (a placeholder of a "
+                                          "massless link): left out"), stacklevel=3)
+                placeholders.append(lk.name)
             continue
         parts.setdefault(lk.body, []).append(li.transformed(inv[lk.body] @ lk.pose))
     labels = {**{k: f"joint {k}" for k in range(1, n + 1)}, n + 1: "payload"}
@@ -66,7 +89,7 @@ def inertial_model(sc, frames: list[np.ndarray]) -> tuple[list[LinkInertia | Non
             out[k] = _snapped(LinkInertia.combined(ps, labels[k]))
         except InertiaError as e:
             raise UrdfError(f"the links of body {k} do not make a rigid body: {e}", sc.path) from None
-    return [out.get(k) for k in range(1, n + 1)], out.get(n + 1)
+    return [out.get(k) for k in range(1, n + 1)], out.get(n + 1), placeholders
 
 
 def _snapped(li: LinkInertia) -> LinkInertia:

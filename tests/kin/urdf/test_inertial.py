@@ -238,3 +238,18 @@ def test_bundled_panda_carries_the_urdf_inertials():
             np.testing.assert_allclose(F1[:3, :3] @ a.tensor @ F1[:3, :3].T, F2[:3, :3] @ b.tensor @ F2[:3, :3].T,
                                        atol=1e-12)
 
+
+def test_a_placeholder_inertial_is_left_out_with_a_warning(tmp_path):
+    """Mass 0 with a tensor (robowflex's Panda gives panda_link8 one): a warning naming the link, the body
+    gets no inertia from it, and the source says so; the other link's mass is kept."""
+    from kin.urdf import UrdfWarning
+    p = tmp_path / "r.urdf"
+    p.write_text(URDF.format(m="0", ixx="1").replace('<link name="a"/>', '''<link name="a"/>
+  <link name="c"><inertial><mass value="2"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="f" type="fixed"><parent link="b"/><child link="c"/><origin xyz="0.2 0 0"/></joint>'''))
+    with pytest.warns(UrdfWarning, match=r"r.urdf: link 'b' inertial: mass 0 with the inertia tensor diagonal 1 1 1 "
+                                         r"\(a placeholder of a massless link\): left out") as record:
+        chain = import_urdf(str(p), tip="c", collision=False)
+    assert len(record) == 1
+    assert chain.payload.mass == 2.0 and chain.joints[0].inertia is None
+    assert "placeholder inertials (mass 0 with a tensor) left out: b" in chain.source
