@@ -30,6 +30,7 @@ SLOW_TESTS = (
     "tests/design/test_architecture.py::test_all_eight_evaluated_and_the_gantry_covers_the_box",
     "tests/planning/windows/test_sampled.py::test_sigma_min_windows_of_a_general_chain",
     "tests/planning/timing/test_torque.py::test_reach_and_qp_agree_with_torque_limits",
+    "tests/kin/urdf/test_round_trip.py::test_meshes_of_every_arm_round_trip_and_are_held",
 )
 
 #: `rmt` commands of the docs' examples that run a study, a sweep, an optimisation or a follower

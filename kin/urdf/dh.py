@@ -22,7 +22,8 @@ and the tip pose, build standard (distal) DH frames 0…n, each fixed in its lin
 The base transform is frame 0 in the base link's frame, the tool transform the tip in frame n.  Each
 DH matrix is read off F_{i-1}⁻¹·F_i and checked to have the DH form, so FK is the URDF's.  Joint
 axes that are almost but not quite parallel (a URDF's 1.5708 for π/2) give a far-away common normal
-and a large d; the construction stays exact, only the table looks odd.
+and a large d; the construction stays exact, only the table looks odd (beyond the 10 km a robot
+file holds, the URDF is refused: :mod:`kin.urdf.writable`, which also writes rounding noise as 0).
 """
 from __future__ import annotations
 
@@ -37,7 +38,7 @@ from kin.urdf.read import SerialChain, read_serial_chain
 
 PARALLEL_TOL = 1e-12     # |sin| between consecutive axes below which they are parallel
 DH_FORM_TOL = 1e-9       # largest entry of F_{i-1}^-1·F_i that the DH form cannot hold
-SNAP = 1e-14             # DH values this close to 0 (lengths, m) or k·π/2 (angles, rad) are snapped
+SNAP = 1e-14             # DH angles this close to k·π/2 (rad) are snapped (lengths: kin.urdf.writable)
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
@@ -98,11 +99,10 @@ def _dh_of(M: np.ndarray, i: int, path: str) -> tuple[float, float, float, float
     return a, alpha, d, theta
 
 
-def _snap(x: float, angle: bool) -> float:
-    if angle:
-        k = round(x / (math.pi / 2))
-        return k * (math.pi / 2) if abs(x - k * (math.pi / 2)) < SNAP else x
-    return 0.0 if abs(x) < SNAP else x
+def _snap(x: float) -> float:
+    """An angle (rad) within :data:`SNAP` of a multiple of π/2 as that multiple."""
+    k = round(x / (math.pi / 2))
+    return k * (math.pi / 2) if abs(x - k * (math.pi / 2)) < SNAP else x
 
 
 def dh_frames(points: np.ndarray, dirs: np.ndarray, tip: np.ndarray) -> list[np.ndarray]:
@@ -136,7 +136,8 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
     links' <collision> elements become the chain's capsules (:mod:`kin.urdf.collision`: up to
     ``max_capsules`` per mesh, cut by the ``search`` of :mod:`kin.geometry.meshfit`, ``package_dirs``
     maps package names to directories, ``progress(stage, done, total)`` hears of each mesh).  The
-    links' <inertial> elements become the bodies' inertial models (:mod:`kin.urdf.inertial`).
+    links' <inertial> elements become the bodies' inertial models (:mod:`kin.urdf.inertial`).  Every
+    number is one a robot file holds (:mod:`kin.urdf.writable`).
     """
     if convention not in ("standard", "modified"):
         raise UrdfError(f"convention {convention!r} unknown; allowed: standard, modified", sc.path)
@@ -146,9 +147,8 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
     joints = []
     for i, (uj, Fa, Fb) in enumerate(zip(sc.joints, frames[:-1], frames[1:]), 1):
         a, alpha, d, theta = _dh_of(np.linalg.solve(Fa, Fb), i, sc.path)
-        joints.append(Joint(uj.type, a=_snap(a, False), alpha=_snap(alpha, True), d=_snap(d, False),
-                            theta=_snap(theta, True), limits=uj.limits, name=uj.name, max_velocity=uj.max_velocity,
-                            max_torque=uj.max_torque))
+        joints.append(Joint(uj.type, a=a, alpha=_snap(alpha), d=d, theta=_snap(theta), limits=uj.limits, name=uj.name,
+                            max_velocity=uj.max_velocity, max_torque=uj.max_torque))
     base, tool = frames[0], np.linalg.solve(frames[-1], tip)
     if name is None:
         name = re.sub(r"[^a-z0-9]+", "_", sc.robot_name.lower()).strip("_") or "imported"
@@ -157,33 +157,38 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
     from dataclasses import replace
 
     from kin.urdf.inertial import inertial_model
+    from kin.urdf.writable import chain_scale, writable
     inertias, payload, placeholders = inertial_model(sc, [*frames, tip])
     joints = [replace(j, inertia=li) for j, li in zip(joints, inertias)]
     geometry = None
     if collision:
         from kin.urdf.collision import collision_geometry
         geometry = collision_geometry(sc, [*frames, tip], max_capsules, package_dirs, search, progress)
-    chain = Chain(name=name, joints=tuple(joints), convention="standard", geometry=geometry,
-                  title=f"{sc.robot_name or name}, {sc.base} to {sc.tip} (imported from URDF)",
-                  source=f"converted from the URDF file {sc.path.rsplit('/', 1)[-1]} (chain {sc.base} -> {sc.tip}) "
-                         "by rmt import-urdf" + ("; continuous joints get limits of one turn [-pi, pi]"
-                                                 if any(j.continuous for j in sc.joints) else "")
-                         + ("; the tool (body n + 1) carries the links of joints off the chain held at "
-                            + ", ".join(f"{nm} = {q:.6g} ({how})" for nm, q, how in sc.held) if sc.held else ""),
-                  base=_placement(base), tool=_placement(tool), payload=payload)
+    notes = [f"converted from the URDF file {sc.path.rsplit('/', 1)[-1]} (chain {sc.base} -> {sc.tip}) "
+             "by rmt import-urdf"]
+    if sc.tip_note:
+        notes.append(sc.tip_note)
+    if any(j.continuous for j in sc.joints):
+        notes.append("continuous joints get limits of one turn [-pi, pi]")
+    if sc.held:
+        notes.append("the tool (body n + 1) carries the links of joints off the chain held at "
+                     + ", ".join(f"{nm} = {q:.6g} ({how})" for nm, q, how in sc.held))
     if any(li is not None for li in inertias) or payload is not None:
-        note = "; inertial values from its <inertial> elements (the tool's: the payload)"
+        note = "inertial values from its <inertial> elements (the tool's: the payload)"
         if sc.loose_masses:
             note += f", left out (moved by joints off the chain): {', '.join(sc.loose_masses)}"
-        chain = replace(chain, source=chain.source + note)
+        notes.append(note)
     if placeholders:
-        chain = replace(chain, source=f"{chain.source}; placeholder inertials (mass 0 with a tensor) left out: "
-                                      f"{', '.join(placeholders)}")
-    return chain.to_modified() if convention == "modified" else chain
+        notes.append(f"placeholder inertials (mass 0 with a tensor) left out: {', '.join(placeholders)}")
+    chain = Chain(name=name, joints=tuple(joints), convention="standard", geometry=geometry,
+                  title=f"{sc.robot_name or name}, {sc.base} to {sc.tip} (imported from URDF)", source="; ".join(notes),
+                  base=_placement(base), tool=_placement(tool), payload=payload)
+    chain = chain.to_modified() if convention == "modified" else chain
+    return writable(chain, sc, chain_scale([*frames, tip]))
 
 
 def _placement(T: np.ndarray) -> Placement:
-    T = np.where(np.abs(T) < SNAP, 0.0, T)
+    T = T.copy()
     T[3] = (0.0, 0.0, 0.0, 1.0)
     return Placement() if np.array_equal(T, np.eye(4)) else Placement.from_matrix(T)
 
@@ -205,4 +210,3 @@ def import_urdf(path: str, base: str | None = None, tip: str | None = None, conv
     """
     return chain_from_serial(read_serial_chain(path, base, tip), convention, name, collision, max_capsules,
                              package_dirs, search, progress)
-

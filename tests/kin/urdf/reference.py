@@ -1,6 +1,7 @@
 """Independent references for the URDF tests (a helper, not a test module).
 
 * :func:`erd_urdf` finds a URDF shipped by the ``example-robot-data`` package (a test dependency);
+  :func:`mbm_urdf` robowflex's spherized Panda or UR5 (MotionBenchMaker's robots, fetched once);
 * :class:`YourdfpyFk` is yourdfpy's own forward kinematics of a URDF (its scene graph), the tip
   link's pose in the base link's frame;
 * :class:`PinocchioModel` is pinocchio's model of a URDF: the tip frame's pose and its geometric
@@ -28,6 +29,16 @@ def erd_urdf(relative: str) -> Path:
     if not path.is_file():
         pytest.skip(f"example-robot-data {dist.version} does not ship {relative}")
     return path
+
+
+def mbm_urdf(robot: str) -> Path:
+    """robowflex's spherized URDF of ``robot`` ("panda" or "ur5"), as MotionBenchMaker uses it
+    (:func:`studies.benchmarks.mbm.robot_files`; skips, saying why, when it cannot be had)."""
+    from studies.benchmarks.mbm import MbmDataError, robot_files
+    try:
+        return robot_files(robot)[0]
+    except MbmDataError as e:
+        pytest.skip(str(e))
 
 
 class YourdfpyFk:
