@@ -31,13 +31,24 @@ def _packages(items) -> dict[str, str]:
 
 
 def cmd_import_urdf(args, load_robot) -> int:
+    import sys
+    import warnings
+
     import kin
-    from kin.urdf import import_urdf
+    from kin.urdf import UrdfWarning, chain_from_serial, read_serial_chain
+    from studies.cli.progress import TerminalProgress
 
     out = _out_path(args.out, ".toml")
-    chain = import_urdf(args.file, base=args.base, tip=args.tip, convention=args.convention, name=args.name,
-                        collision=not args.no_collision, max_capsules=args.capsules_per_mesh,
-                        package_dirs=_packages(args.package))
+    packages = _packages(args.package)
+    with warnings.catch_warnings(record=True) as caught, TerminalProgress() as progress:
+        warnings.simplefilter("always", UrdfWarning)
+        sc = read_serial_chain(args.file, args.base, args.tip)
+        chain = chain_from_serial(sc, args.convention, args.name, collision=not args.no_collision,
+                                  max_capsules=args.capsules_per_mesh, package_dirs=packages,
+                                  search="exhaustive" if args.thorough else "fast", progress=progress)
+    notes = [str(w.message) for w in caught if issubclass(w.category, UrdfWarning)]
+    for note in notes:
+        print(f"rmt: warning: {note}", file=sys.stderr)
     kin.save_robot(chain, out)
     g = chain.geometry
     if args.json:
@@ -45,10 +56,13 @@ def cmd_import_urdf(args, load_robot) -> int:
                     "convention": chain.convention, "base_is_identity": chain.base.is_identity,
                     "tool_is_identity": chain.tool.is_identity, "capsules": 0 if g is None else len(g.capsules),
                     "over_estimate": None if g is None else g.over_estimate,
-                    "geometry_source": None if g is None else g.source}))
+                    "geometry_source": None if g is None else g.source, "source": chain.source,
+                    "warnings": notes}))
         return EXIT_OK
     types = "".join("R" if j.is_revolute else "P" for j in chain.joints)
     print(f"{args.file}: {chain.title}")
+    if sc.tip_note:
+        print(sc.tip_note)
     print(f"{chain.n} joints ({types}), {chain.convention} DH, written to {out} (m, rad); "
           f"see it with: rmt show {out}")
     if g is not None:
@@ -85,6 +99,9 @@ def add_commands(add) -> None:
                     help="leave out the links' <collision> elements (and their mesh files): default capsules")
     sp.add_argument("--capsules-per-mesh", type=int, choices=(1, 2, 3), default=3,
                     help="capsules enclosing each collision mesh, at most (default: 3)")
+    sp.add_argument("--thorough", action="store_true",
+                    help="score every candidate cut of each mesh exactly (how the bundled arms were fitted; several "
+                         "times slower)")
     sp.add_argument("--package", action="append", metavar="NAME=DIR",
                     help="directory of the ROS package NAME for package:// mesh paths (repeatable; default: "
                          "the directory of that name above the URDF file)")

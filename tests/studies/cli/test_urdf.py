@@ -1,5 +1,6 @@
 """``rmt import-urdf`` and ``rmt export-urdf`` end to end: files written, the imported robot's FK
-against yourdfpy's model of the same URDF, exit code 2 and one line on bad input."""
+against yourdfpy's model of the same URDF, warnings as ``rmt: warning:`` lines, exit code 2 and one
+line on bad input."""
 from __future__ import annotations
 
 import json
@@ -10,7 +11,7 @@ import pytest
 import kin
 from studies.cli import main
 from tests.dh_numpy import fk_numpy
-from tests.kin.urdf.reference import YourdfpyFk, erd_urdf
+from tests.kin.urdf.reference import YourdfpyFk, erd_urdf, mbm_urdf
 
 
 def run(capsys, *argv):
@@ -76,9 +77,18 @@ def test_export_then_import_round_trip(capsys, tmp_path):
      "--package 'pkg={tmp}/none': directory '{tmp}/none' does not exist"),
     (["import-urdf", "{tmp}/mesh.urdf", "--out", "{tmp}/x.toml"],
      "mesh.urdf: link 'b' collision 0 mesh 'package://pkg/m.stl': package 'pkg' is neither a directory above"),
+    (["import-urdf", "{tmp}/far.urdf", "--out", "{tmp}/x.toml"],
+     "far.urdf: joint 'j': its <origin> xyz [1e+300, 0.0, 0.0] reaches 1e+300 m; allowed: at most 10000 m (10 km)"),
+    (["import-urdf", "{tmp}/slow.urdf", "--out", "{tmp}/x.toml"],
+     "slow.urdf: joint 'j': <limit> velocity = -1; allowed: a finite number ≥ 0 (rad/s; 0: unknown)"),
 ])
 def test_bad_input_exits_2_with_one_line(capsys, tmp_path, argv, message):
     (tmp_path / "bad.urdf").write_text("<robot")
+    for name, origin, velocity in (("far", "1e300 0 0", "1"), ("slow", "0 0 0", "-1")):
+        (tmp_path / f"{name}.urdf").write_text(
+            f'<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/>'
+            f'<child link="b"/><origin xyz="{origin}"/><limit lower="-1" upper="1" effort="1" velocity="{velocity}"/>'
+            '</joint></robot>')
     (tmp_path / "mesh.urdf").write_text(
         '<robot name="m"><link name="a"/><link name="b"><collision><geometry><mesh filename="package://pkg/m.stl"/>'
         '</geometry></collision></link><joint name="j" type="revolute"><parent link="a"/><child link="b"/>'
@@ -86,3 +96,43 @@ def test_bad_input_exits_2_with_one_line(capsys, tmp_path, argv, message):
     code, out, err = run(capsys, *[a.format(tmp=tmp_path) for a in argv])
     assert code == 2 and out == ""
     assert err.count("\n") == 1 and message.format(tmp=tmp_path) in err, err
+
+
+def test_robowflex_panda_imports_with_a_warning_per_placeholder(capsys, tmp_path):
+    """MotionBenchMaker's Panda: two massless links with placeholder tensors are warned about (one line each,
+    naming the link), the tip defaults to the hand every leaf hangs from, and the file loads."""
+    urdf = mbm_urdf("panda")
+    out = tmp_path / "panda.toml"
+    code, text, err = run(capsys, "import-urdf", urdf, "--out", out)
+    assert code == 0
+    lines = err.splitlines()
+    assert len(lines) == 2 and all(line.startswith(f"rmt: warning: {urdf}: link '") for line in lines)
+    assert "'panda_link8' inertial: mass 0" in lines[0] and "'panda_grasptarget' inertial: mass 0" in lines[1]
+    assert "tip 'panda_hand': the link that all 3 leaves hang from" in text
+    code, shown, _ = run(capsys, "show", out)
+    assert code == 0
+    assert "placeholder inertials (mass 0 with a tensor) left out: panda_link8, panda_grasptarget" in shown
+
+
+def test_thorough_search_encloses_the_mesh(capsys, tmp_path):
+    """--thorough (every cut scored exactly) on an L-shaped bar: the capsules hold all of its corners."""
+    import trimesh
+    from shapely.geometry import Polygon
+    bar = trimesh.creation.extrude_polygon(Polygon([(0, 0), (0.3, 0), (0.3, 0.06), (0.06, 0.06), (0.06, 0.3),
+                                                    (0, 0.3)]), 0.06)
+    bar.export(str(tmp_path / "bar.stl"))
+    (tmp_path / "bar.urdf").write_text(
+        '<robot name="bar"><link name="a"/><link name="b"><collision><geometry><mesh filename="bar.stl"/></geometry>'
+        '</collision></link><joint name="j" type="revolute"><parent link="a"/><child link="b"/>'
+        '<origin xyz="0 0 0.1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>')
+    code, text, err = run(capsys, "import-urdf", tmp_path / "bar.urdf", "--thorough", "--out", tmp_path / "bar.toml",
+                          "--json")
+    assert code == 0 and err == "" and json.loads(text)["capsules"] >= 2
+    chain = kin.load_chain(tmp_path / "bar.toml")
+    from kin.geometry import body_frames
+    from kin.geometry.enclose import segment_distance
+    F = body_frames(chain, [0.0])[0][1]
+    P = np.asarray(bar.vertices) + [0, 0, 0.1]
+    inside = np.min([segment_distance(P, F[:3, :3] @ c.a + F[:3, 3], F[:3, :3] @ c.b + F[:3, 3]) - c.radius
+                     for c in chain.geometry.capsules], axis=0)
+    assert inside.max() <= 1e-9
