@@ -29,11 +29,12 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 
 import numpy as np
 
 from kin.chain import NAME_RE, Chain, Joint, Placement
-from kin.urdf.errors import UrdfError
+from kin.urdf.errors import UrdfError, UrdfWarning
 from kin.urdf.read import SerialChain, read_serial_chain
 
 PARALLEL_TOL = 1e-12     # |sin| between consecutive axes below which they are parallel
@@ -128,7 +129,7 @@ def dh_frames(points: np.ndarray, dirs: np.ndarray, tip: np.ndarray) -> list[np.
 
 def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str | None = None,
                       collision: bool = True, max_capsules: int = 3, package_dirs=None, search: str = "fast",
-                      progress=None) -> Chain:
+                      progress=None, srdf=None) -> Chain:
     """The rmtkit chain (SI; lengths in m, angles in rad) of a URDF serial chain, same FK.
 
     ``convention`` is "standard" or "modified"; ``name`` defaults to the URDF robot's name made
@@ -137,7 +138,8 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
     ``max_capsules`` per mesh, cut by the ``search`` of :mod:`kin.geometry.meshfit`, ``package_dirs``
     maps package names to directories, ``progress(stage, done, total)`` hears of each mesh).  The
     links' <inertial> elements become the bodies' inertial models (:mod:`kin.urdf.inertial`).  Every
-    number is one a robot file holds (:mod:`kin.urdf.writable`).
+    number is one a robot file holds (:mod:`kin.urdf.writable`).  ``srdf``: a MoveIt SRDF whose disabled
+    collision pairs leave body pairs unchecked (:mod:`kin.urdf.srdf`).
     """
     if convention not in ("standard", "modified"):
         raise UrdfError(f"convention {convention!r} unknown; allowed: standard, modified", sc.path)
@@ -180,6 +182,21 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
         notes.append(note)
     if placeholders:
         notes.append(f"placeholder inertials (mass 0 with a tensor) left out: {', '.join(placeholders)}")
+    if srdf is not None:
+        from kin.urdf.srdf import allowed_body_pairs, disabled_link_pairs
+        disabled = disabled_link_pairs(srdf)
+        srdf_name = str(srdf).rsplit("/", 1)[-1]
+        if geometry is None:
+            notes.append(f"the SRDF {srdf_name} not applied: the chain's links have no collision geometry")
+        else:
+            pairs, unknown = allowed_body_pairs(geometry, disabled)
+            geometry = geometry.with_allowed(pairs)
+            notes.append(f"self-collision pairs the SRDF {srdf_name} disables: {len(pairs)} body pair(s) not checked "
+                         "(every link pair between the two disabled)")
+            if unknown:
+                more = " …" if len(unknown) > 8 else ""
+                warnings.warn(UrdfWarning(f"{srdf}: disable_collisions names link(s) with no collision geometry on the "
+                                          f"chain, ignored: {', '.join(unknown[:8])}{more}"), stacklevel=3)
     chain = Chain(name=name, joints=tuple(joints), convention="standard", geometry=geometry,
                   title=f"{sc.robot_name or name}, {sc.base} to {sc.tip} (imported from URDF)", source="; ".join(notes),
                   base=_placement(base), tool=_placement(tool), payload=payload)
@@ -195,7 +212,7 @@ def _placement(T: np.ndarray) -> Placement:
 
 def import_urdf(path: str, base: str | None = None, tip: str | None = None, convention: str = "standard",
                 name: str | None = None, collision: bool = True, max_capsules: int = 3,
-                package_dirs=None, search: str = "fast", progress=None) -> Chain:
+                package_dirs=None, search: str = "fast", progress=None, srdf=None) -> Chain:
     """Read a URDF file and convert the chain ``base`` → ``tip`` to an rmtkit :class:`~kin.Chain`.
 
     Defaults: base = the root link, tip = the only leaf link, or the link every leaf hangs from
@@ -206,7 +223,8 @@ def import_urdf(path: str, base: str | None = None, tip: str | None = None, conv
     (:mod:`kin.urdf.collision`; ``search`` "exhaustive" tries every cut of a mesh exactly, slower);
     ``collision=False`` skips them (and their mesh files).  ``progress(stage, done, total)`` is
     called as meshes are enclosed.  Placeholder inertials are left out with a
-    :class:`~kin.urdf.errors.UrdfWarning`.
+    :class:`~kin.urdf.errors.UrdfWarning`.  ``srdf``: a MoveIt SRDF whose ``<disable_collisions>`` pairs
+    leave the body pairs all of whose link pairs they name unchecked (:mod:`kin.urdf.srdf`).
     """
     return chain_from_serial(read_serial_chain(path, base, tip), convention, name, collision, max_capsules,
-                             package_dirs, search, progress)
+                             package_dirs, search, progress, srdf)

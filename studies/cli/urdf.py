@@ -45,7 +45,8 @@ def cmd_import_urdf(args, load_robot) -> int:
         sc = read_serial_chain(args.file, args.base, args.tip)
         chain = chain_from_serial(sc, args.convention, args.name, collision=not args.no_collision,
                                   max_capsules=args.capsules_per_mesh, package_dirs=packages,
-                                  search="exhaustive" if args.thorough else "fast", progress=progress)
+                                  search="exhaustive" if args.thorough else "fast", progress=progress,
+                                  srdf=args.srdf)
     notes = [str(w.message) for w in caught if issubclass(w.category, UrdfWarning)]
     for note in notes:
         print(f"rmt: warning: {note}", file=sys.stderr)
@@ -67,6 +68,8 @@ def cmd_import_urdf(args, load_robot) -> int:
           f"see it with: rmt show {out}")
     if g is not None:
         print(f"collision geometry: {len(g.capsules)} capsules; {g.source}")
+        if args.srdf:
+            print(f"self-collision: {len(g.allowed)} body pair(s) the SRDF disables are not checked")
     elif not args.no_collision:
         print("collision geometry: none in the URDF; the robot gets the default capsules along its DH offsets")
     return EXIT_OK
@@ -105,6 +108,9 @@ def add_commands(add) -> None:
     sp.add_argument("--package", action="append", metavar="NAME=DIR",
                     help="directory of the ROS package NAME for package:// mesh paths (repeatable; default: "
                          "the directory of that name above the URDF file)")
+    sp.add_argument("--srdf", metavar="FILE.srdf",
+                    help="a MoveIt SRDF: body pairs all of whose links' pairs it disables are not checked for "
+                         "self-collision (the robot file's allow)")
     sp.add_argument("--out", required=True, metavar="ROBOT.toml", help="robot file to write")
     sp = add("export-urdf", cmd_export_urdf, "write a robot as URDF with cylinder visuals and collision capsules")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or robot file")

@@ -10,9 +10,9 @@ import numpy as np
 
 __all__ = ["Problem", "problems", "request_states", "scene_cell_of", "import_robot", "TIPS"]
 
-#: the tool link of each robot's import: the Panda's hand and the UR5's flange; the gripper below them
-#: (fixed joints) is the tool's geometry
-TIPS = {"panda": "panda_hand", "ur5": "tool0"}
+#: the tool link of each robot's import (None: the importer's default, the link every leaf hangs from
+#: through fixed joints — the Panda's hand, the UR5's flange link); the gripper below is the tool's geometry
+TIPS = {"panda": None, "ur5": None}
 
 
 @dataclass(frozen=True)
@@ -58,21 +58,20 @@ def scene_cell_of(path: Path):
 
 
 def import_robot(robot: str, directory=None, out_dir: Path | None = None):
-    """The robot (:class:`kin.Robot`) imported from its spherized URDF and SRDF as ``rmt import-urdf``
-    imports it, written as a robot file in ``out_dir`` (rmtkit's cache by default) and read back."""
+    """The robot (:class:`kin.Robot`) imported from its spherized URDF and SRDF as ``rmt import-urdf
+    URDF --srdf SRDF`` imports it, written as a robot file in ``out_dir`` (rmtkit's cache by default) and
+    read back."""
     import kin
     from kin.native.settings import cache_dir
     from kin.urdf import import_urdf
     from studies.benchmarks.mbm.data import robot_files
     urdf, srdf = robot_files(robot, directory)
-    kwargs = {"tip": TIPS[robot]}
-    try:                                    # the SRDF's disabled pairs, where the importer reads them
-        import inspect
-        if "srdf" in inspect.signature(import_urdf).parameters:
-            kwargs["srdf"] = srdf
-    except (TypeError, ValueError):
-        pass
-    chain = import_urdf(str(urdf), **kwargs)
+    import warnings
+
+    from kin.urdf import UrdfWarning
+    with warnings.catch_warnings():         # robowflex's placeholder inertials, the SRDF's frame-only links
+        warnings.simplefilter("ignore", UrdfWarning)
+        chain = import_urdf(str(urdf), tip=TIPS[robot], srdf=srdf)
     out_dir = Path(out_dir) if out_dir is not None else cache_dir() / "mbm" / "robots"
     out_dir.mkdir(parents=True, exist_ok=True)
     path = out_dir / f"{robot}.toml"
