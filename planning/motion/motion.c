@@ -36,14 +36,18 @@
    proven", which a planner treats as invalid.  SLACK (1e-9 m) on every radius covers the rounding of the
    placed points (~1e-15 m); every distance is a lower bound of the true one.
 
-   Most pairs are settled without any exact distance: a body's and its groups' balls first (types.h), and
-   for whole eighths of the motion at once (strip_culls) from the distances at their ends and a bound on
-   how fast they can change.  The states are visited as VAMP's "rake" does: eight lanes, lane l walking the l-th eighth of the
-   motion (consecutive eighths share their end state), so that the first block already holds nine
-   states spread over the whole motion — tested first as states: most invalid motions are refuted there —
-   and every later block proves the eight intervals that end in it, one per lane.  `ordered` (path
-   checks) looks at every interval and reports the violation earliest along the motion; `bound` also
-   measures a lower bound of the clearance along a proven motion. */
+   Most pairs are settled without any exact distance.  The first block places the motion's two ends and
+   six states between them (eight configurations at once, cutting the motion into seven strips) and
+   tests them as states — most invalid motions are refuted there, the pair that collided last tried
+   first; then every body–primitive pair and body pair whose distance at both ends of a strip exceeds half
+   of what can move in the strip (first-order bound, against another body in the lower body's frame) is
+   proven on that strip, and when nothing is left the motion is proven after eight states.  What is left
+   is walked as VAMP's "rake" walks a motion: lane l of each later block steps along strip l, the bodies
+   an open strip needs placed, the intervals tested down the hierarchy body ball → group balls → capsule
+   balls → swept capsule (types.h) for the pairs left open on their strip only.  `ordered` (path checks)
+   looks at every interval and reports the violation earliest along the motion; `bound` measures every
+   interval exactly, a proven lower bound of the clearance along a proven motion.  A single configuration
+   (the state validity checker's question) is checked in scalar code (states.h: state_one). */
 #include "clearance.c"
 #if defined(__AVX512F__) || defined(__AVX2__)
 #include <immintrin.h>
