@@ -440,7 +440,9 @@ def _fit(P: np.ndarray, extra=(), refine: bool = True, fast: bool = False) -> Ca
                     best, u, moved = c, v, True
         if not moved:
             step /= 2
-    return capsule_along(H, u, quick=not refine) if fast else best
+    if not fast or (G is H and not refine):        # best is already the capsule along u of every point
+        return best
+    return capsule_along(H, u, quick=not refine)
 
 
 #: the fast direction search of :func:`_fit` looks at most at about this many hull vertices
