@@ -98,11 +98,12 @@ def cmd_plan(args, load_robot) -> int:
     boxes = _keep_out(c, args)
     world = world_from_args(robot, args, keep_out=boxes)
     ws = windows_from_args(robot, args.margin, args.sigma_min)
-    note = sampled_windows_note(ws, "check the path with `rmt check-path --sigma-floor S`, which proves a σ_min floor")
-    if note:
-        print(note, file=sys.stderr)
+    if args.sigma_floor is None:
+        note = sampled_windows_note(ws, "add --sigma-floor S to plan with σ_min ≥ S proven along the path")
+        if note:
+            print(note, file=sys.stderr)
     res = plan(robot, start, goal, ws, goal_pose=goal_pose, planner=args.planner, time_limit=args.time_limit,
-               seed=args.seed, objective=args.objective, world=world)
+               seed=args.seed, objective=args.objective, world=world, sigma_min=args.sigma_floor)
     if goal is None:
         goal = res.goal if res.goal is not None else start
     dense = res.check
@@ -110,7 +111,7 @@ def cmd_plan(args, load_robot) -> int:
         # plan() returns its path checked by the proofs alone; the command reports what check-path reports:
         # the smallest clearance of the dense states and the proof's lower bound along the path
         from planning.validate import check_path
-        dense = check_path(robot, res.path, ws, args.sigma_min, world=world)
+        dense = check_path(robot, res.path, ws, args.sigma_floor, world=world)
     path_file = robot.chain.from_si(res.path) if res.success else np.zeros((0, robot.n))
     if args.out and res.success:
         write_path_csv(robot, res.path, args.out)
@@ -148,6 +149,8 @@ def cmd_plan(args, load_robot) -> int:
                       f"every window; the nearest such one chosen")
             print("windows proven clear along every segment" if res.proof is not None and res.proof.proven
                   else "windows checked by samples on some segments (the proof could not settle them)")
+            if args.sigma_floor is not None:
+                print(f"σ_min ≥ {args.sigma_floor:g} {res.check.sigma_check} along every segment")
             if world is not None:
                 print(f"collisions with the cell and the robot itself: {res.check.collision_check}; min clearance "
                       f"{dense.min_clearance * 1e3:.4g} mm (proven ≥ {(dense.clearance_bound or 0.0) * 1e3:.4g} mm)")
@@ -251,6 +254,8 @@ def add_commands(add) -> None:
                     metavar="S", help=f"planning time limit, s (default 2, at most {MAX_TIME_LIMIT:g})")
     sp.add_argument("--objective", default="none", choices=("none", "length", "singularity"),
                     help="optimisation objective for optimising planners (default none)")
+    sp.add_argument("--sigma-floor", type=bounded(0, MAX_SIGMA, "(SI)"), metavar="S",
+                    help="keep σ_min ≥ S (SI) along the path, proven segment by segment")
     sp.add_argument("--out", metavar="PATH.csv", help="write the path as CSV (robot file units)")
     sp = add("check-path", cmd_check_path, "check a joint path (CSV) densely; exit 0 valid, 1 invalid")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
