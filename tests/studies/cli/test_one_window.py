@@ -97,8 +97,9 @@ PANDA_THROUGH = """q1,q2,q3,q4,q5,q6,q7
 
 def test_sampled_windows_are_said_and_a_sigma_floor_catches_what_they_miss(capsys, tmp_path):
     """A Panda path through an exact singularity (σ_min ≈ 1e-14 between its rows, found by a tester)
-    that the sampled windows miss: check-path says the windows are sampled and how much they miss,
-    and --sigma-floor proves the path invalid."""
+    that the sampled windows miss: check-path proves the path clear of the windows as they are, says
+    that they are sampled and how much of the singular set they miss, and --sigma-floor proves the
+    path invalid."""
     path = tmp_path / "through.csv"
     path.write_text(PANDA_THROUGH)
     robot = kin.load_robot("franka_panda")
@@ -106,7 +107,7 @@ def test_sampled_windows_are_said_and_a_sigma_floor_catches_what_they_miss(capsy
     t = np.linspace(0, 1, 2001)[:, None]
     assert robot.sigma_min(P[0] + t * (P[1] - P[0])).min() < 1e-6          # it does pass a singularity
     rc, out, err = _cli(["check-path", "franka_panda", str(path), "--margin", "0.05"], capsys)
-    assert "windows sampled" in out and "are sampled" in err and "fresh points of the singular set" in err
+    assert "windows proven" in out and "are sampled" in err and "fresh points of the singular set" in err
     rc, out, err = _cli(["check-path", "franka_panda", str(path), "--margin", "0.05", "--sigma-floor", "0.01"],
                         capsys)
     assert rc == 1 and "INVALID" in out and "sigma_min" in out
