@@ -10,7 +10,8 @@ the collision proofs and the compiled clearance kernel.
   against obstacles and each other (compiled kernel ``clearance.c``; numpy fallback
   :mod:`kin.geometry.clearance_numpy`), :class:`Contact`.
 * :mod:`kin.geometry.enclose` — capsules enclosing boxes, cylinders, point sets and meshes, with their
-  over-estimate (robot files, URDF import, the bundled arms).
+  over-estimate (robot files, URDF import, the bundled arms); :mod:`kin.geometry.meshfit` — a mesh
+  cut into slabs, the fast and the exhaustive search for the cut.
 """
 from kin.geometry.clearance import ClearanceModel, Contact
 from kin.geometry.default import chain_length, default_geometry, default_radius

@@ -17,7 +17,7 @@ enclose — says how much room the replacement costs.
   itself, exactly.
 * **Point set** (:func:`enclose_points`): the vertices of its convex hull; the axis is the principal
   axis (PCA) or frame axis that gives the least volume, refined by a local search over directions.
-* **Mesh** (:func:`enclose_mesh`, :mod:`kin.geometry.meshfit`): one capsule as for a point set, or
+* **Mesh** (:func:`kin.geometry.meshfit.enclose_mesh`): one capsule as for a point set, or
   the mesh cut into two or three slabs by parallel planes, each slab enclosed alone.
 
 The over-estimate is computed, not assumed.  For a box or a cylinder it is the largest distance
@@ -40,7 +40,7 @@ from functools import lru_cache
 import numpy as np
 
 __all__ = ["Capsule", "Enclosure", "capsule_along", "enclose_box", "enclose_cylinder", "enclose_sphere",
-           "enclose_points", "enclose_mesh", "over_estimate", "over_bounds", "segment_distance", "surface_samples",
+           "enclose_points", "over_estimate", "over_bounds", "segment_distance", "surface_samples",
            "thinned", "union_volume"]
 
 #: the over-estimate of a mesh is an upper bound within this fraction of its size (and 1 µm)
@@ -568,12 +568,3 @@ def enclose_points(points) -> Enclosure:
         return Enclosure((cap,), over_estimate([cap], lambda X: tree.query(X)[0], size))
     size = float(np.linalg.norm(np.ptp(tris.reshape(-1, 3), axis=0)))
     return Enclosure((cap,), over_estimate([cap], _mesh_distance(tris, k=4), size, tol=max(size / 500, 1e-6)))
-
-
-def enclose_mesh(vertices, faces, max_capsules: int = 3, gain: float = 0.05, search: str = "fast") -> Enclosure:
-    """Capsules (at most ``max_capsules``, 1 to 3) that together hold the solid bounded by the
-    triangle mesh (``vertices`` (V, 3), ``faces`` (F, 3) indices), and their over-estimate with respect
-    to the mesh: :func:`kin.geometry.meshfit.fit_mesh` (``search``: "fast" or "exhaustive")."""
-    from kin.geometry.meshfit import fit_mesh
-    fit = fit_mesh(vertices, faces, max_capsules, gain, search)
-    return Enclosure(fit.capsules, fit.over_estimate())

@@ -1,5 +1,6 @@
-"""Capsules enclosing a triangle mesh (:func:`fit_mesh`): one capsule, or the mesh cut by one plane
-into two slabs or by two parallel planes into three, each slab enclosed by its own capsule.
+"""Capsules enclosing a triangle mesh (:func:`fit_mesh`, :func:`enclose_mesh`): one capsule, or the
+mesh cut by one plane into two slabs or by two parallel planes into three, each slab enclosed by its
+own capsule.
 
 * **Slabs.** The part of the solid between two planes lies in the convex hull of the surface there,
   whose extreme points are corners of the mesh between the planes and points where its edges cross
@@ -34,6 +35,7 @@ import numpy as np
 
 from kin.geometry.enclose import (
     Capsule,
+    Enclosure,
     _fit,
     _hull_points,
     _mesh_distance,
@@ -431,3 +433,11 @@ def fit_mesh(vertices, faces, max_capsules: int = 3, gain: float = 0.05, search:
         if over <= single_bounds[0] * (1 + 1e-6) or (over <= 1.05 * single_bounds[0] and vol < 0.8 * v_single):
             return MeshFit(caps, mine[1], tris, distance, size)
     return MeshFit(single, 0.0 if single_bounds is None else single_bounds[1], tris, distance, size)
+
+
+def enclose_mesh(vertices, faces, max_capsules: int = 3, gain: float = 0.05, search: str = "fast") -> Enclosure:
+    """Capsules (at most ``max_capsules``, 1 to 3) that together hold the solid bounded by the
+    triangle mesh (``vertices`` (V, 3), ``faces`` (F, 3) indices), and their over-estimate with respect
+    to the mesh (:func:`fit_mesh`, its over-estimate made precise)."""
+    fit = fit_mesh(vertices, faces, max_capsules, gain, search)
+    return Enclosure(fit.capsules, fit.over_estimate())

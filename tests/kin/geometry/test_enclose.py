@@ -17,11 +17,11 @@ from kin.geometry.enclose import (
     capsule_along,
     enclose_box,
     enclose_cylinder,
-    enclose_mesh,
     enclose_points,
     enclose_sphere,
     segment_distance,
 )
+from kin.geometry.meshfit import enclose_mesh
 
 
 def surface(c: Capsule, n: int = 60_000, seed: int = 0) -> np.ndarray:
