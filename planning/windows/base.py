@@ -31,7 +31,8 @@ class WindowBase(ABC):
     method: str
     n: int
 
-    #: a point-set window (:class:`planning.windows.PointSetWindow`): known by samples, never proven
+    #: a point-set window (:class:`planning.windows.PointSetWindow`): known by samples (paths are proven
+    #: clear of it as it is, by segment–point distances: :mod:`planning.certify.points`)
     is_point_set: ClassVar[bool] = False
 
     @property

@@ -84,8 +84,8 @@ def _windows_text(robot: kin.Robot, ws) -> str:
                      f"{floor['below_threshold_outside']} of the {floor['outside_windows']} fresh configurations "
                      f"outside them (of {floor['fresh_samples']} drawn) fall below")
     if any(getattr(w, "is_point_set", False) for w in ws.windows):
-        lines.append("  point-set windows are sampled: they hold the set as far as its samples show, and no path "
-                     "near them is called proven")
+        lines.append("  point-set windows are sampled: they hold the set as far as its samples show; a path is proven "
+                     "clear of them as they are, not of what they miss (a σ_min floor proves that)")
     return "\n".join(lines)
 
 
