@@ -6,9 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from planning.cell import load_cell
 from planning.cell import cache as cell_cache
-from planning.cell import obstacles
+from planning.cell import load_cell, obstacles
 
 STL = """solid t
 facet normal 0 0 1
