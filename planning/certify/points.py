@@ -257,6 +257,7 @@ class PointSetProver:
         self.R, self.R_max = _enclosing(window)
         self.piece = PIECE_WIDTHS * max(self.R_max, SLACK)
         self.tree = window.tree if len(window.points) else None
+        self.per_query = max(1, MAX_PAIRS // max(len(window.points), 1))      # pieces per KD-tree query
 
     def excess(self, q) -> float:
         """0 exactly when ``window.contains(q)`` at one configuration (n,), else a positive number:
@@ -285,16 +286,18 @@ class PointSetProver:
         r = (0.5 * length / k + self.R_max + SLACK) * (1 + 1e-12) + 1e-12
         if k == 1:
             near = self.tree.query_ball_point(x + 0.5 * d, r)
-            if not near:
-                return True
-            pt = np.asarray(near, dtype=np.int64)
-        else:
-            lists = self.tree.query_ball_point(x + ((np.arange(k) + 0.5) / k)[:, None] * d, r)
-            if not any(lists):
-                return True
-            pt = np.unique(np.concatenate([np.asarray(v, dtype=np.int64) for v in lists if v]))
-        hit = _enclosure_hits(self.window, x[None], y[None], np.zeros(len(pt), np.int64), pt, self.R)[0]
-        return not hit.any()
+            return not near or not self._hits(x, y, np.asarray(near, dtype=np.int64))
+        mids = x + ((np.arange(k) + 0.5) / k)[:, None] * d
+        for s in range(0, k, self.per_query):             # at most about MAX_PAIRS candidates at once
+            lists = self.tree.query_ball_point(mids[s:s + self.per_query], r)
+            if any(lists) and self._hits(x, y, np.unique(np.concatenate(
+                    [np.asarray(v, dtype=np.int64) for v in lists if v]))):
+                return False
+        return True
+
+    def _hits(self, x: np.ndarray, y: np.ndarray, pt: np.ndarray) -> bool:
+        """Whether the segment x → y (over the window's joints) meets the enclosure of a point of pt."""
+        return bool(_enclosure_hits(self.window, x[None], y[None], np.zeros(len(pt), np.int64), pt, self.R)[0].any())
 
 
 def segment_clear(window, a, b) -> bool:
