@@ -107,16 +107,17 @@ def cmd_plan(args, load_robot) -> int:
     if goal is None:
         goal = res.goal if res.goal is not None else start
     dense = res.check
-    if res.success and world is not None:
+    if res.success:
         # plan() returns its path checked by the proofs alone; the command reports what check-path reports:
-        # the smallest clearance of the dense states and the proof's lower bound along the path
+        # the smallest σ_min and clearance of the dense states and the proof's lower bound along the path
         from planning.validate import check_path
         dense = check_path(robot, res.path, ws, args.sigma_floor, world=world)
     path_file = robot.chain.from_si(res.path) if res.success else np.zeros((0, robot.n))
     if args.out and res.success:
         write_path_csv(robot, res.path, args.out)
     out = {"success": res.success, "path": path_file.tolist(), "planner": res.planner, "time_s": res.time_s,
-           "length": finite_or_none(res.length), "min_sigma": finite_or_none(res.min_sigma),
+           "length": finite_or_none(res.length),
+           "min_sigma": finite_or_none(dense.min_sigma if res.success else res.min_sigma),
            "windows": [] if ws is None else [w.name for w in ws.windows],
            "straight_line_valid": res.straight_line_valid, "status": res.status,
            "proven": res.proven, "checks": None if res.check is None else
@@ -139,7 +140,7 @@ def cmd_plan(args, load_robot) -> int:
         if res.success:
             print(f"path found by {res.planner} in {res.time_s:.3f} s: {len(res.path)} waypoints, joint-space "
                   f"length {res.length:.4g} (straight line {np.linalg.norm(goal - start):.4g}"
-                  f"{', blocked' if not res.straight_line_valid else ''}), min σ_min {res.min_sigma:.3g}")
+                  f"{', blocked' if not res.straight_line_valid else ''}), min σ_min {dense.min_sigma:.3g}")
             print("  " + " ".join(f"{f'q{i + 1} [{u}]':>10}" for i, u in enumerate(joint_units(c))))
             for row in path_file:
                 print("  " + " ".join(f"{x:10.5g}" for x in row))
