@@ -280,6 +280,7 @@ class MotionChecker:
             self._ptr = ptr
             self._finalizer = _Freer(self._dll, ptr, keep)
         self._q = np.zeros(n)
+        self._count = [0]
         self._r = _Result()
         self._rp = ctypes.addressof(self._r)
 
@@ -348,19 +349,29 @@ class MotionChecker:
         return state
 
     def ompl_motion(self):
-        """A callable (s1, s2) → bool for a :class:`ompl.base.MotionValidator`'s ``checkMotion``."""
+        """A callable (s1, s2) → bool for a :class:`ompl.base.MotionValidator`'s ``checkMotion``; each
+        call counts (:meth:`motion_calls`)."""
         if self._ext is not None:
             return functools.partial(self._ext.motion, self._handle)
-        n, dll, ptr, rp = self.n, self._dll, self._ptr, self._rp
+        n, dll, ptr, rp, count = self.n, self._dll, self._ptr, self._rp, self._count
         a, b = (ctypes.c_double * n)(), (ctypes.c_double * n)()
 
         def motion(s1, s2) -> bool:
+            count[0] += 1
             for i in range(n):
                 a[i] = s1[i]
                 b[i] = s2[i]
             return dll.rmt_motion_check(ptr, a, b, 0, 0, rp) == 1
 
         return motion
+
+    def motion_calls(self):
+        """A callable giving how many motions the :meth:`ompl_motion` callables have checked so far (a
+        planner's budget counted in motions, the same on every machine)."""
+        if self._ext is not None:
+            return functools.partial(self._ext.calls, self._handle)
+        count = self._count
+        return lambda: count[0]
 
 
 def checker_for(world, intervals=(), limits: bool = True) -> MotionChecker | None:

@@ -86,14 +86,24 @@ static PyObject *py_motion(PyObject *self, PyObject *const *args, Py_ssize_t nar
   double a[64], b[64];
   if (!py_read_q(args[1], X->n, a) || !py_read_q(args[2], X->n, b)) Py_RETURN_FALSE;
   rmt_motion_result r;
+  X->calls += 1;
   if (rmt_motion_check(X, a, b, 0, 0, &r) == RMT_MOTION_CLEAR) Py_RETURN_TRUE;
   Py_RETURN_FALSE;
+}
+
+static PyObject *py_calls(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  if (nargs != 1) { PyErr_SetString(PyExc_TypeError, "calls(checker)"); return NULL; }
+  rmt_motion *X = py_checker_of(args[0]);
+  if (X == NULL) return NULL;
+  return PyLong_FromLongLong(X->calls);
 }
 
 static PyMethodDef rmt_py_methods[] = {
   { "wrap", RMT_PY_FN(py_wrap), "wrap(address, keep): a capsule owning the checker at address" },
   { "state", RMT_PY_FN(py_state), "state(checker, q): whether configuration q is valid" },
   { "motion", RMT_PY_FN(py_motion), "motion(checker, a, b): whether the motion a -> b is proven valid" },
+  { "calls", RMT_PY_FN(py_calls), "calls(checker): the motions motion() has checked so far" },
   { NULL, NULL, 0, NULL }
 };
 

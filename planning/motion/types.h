@@ -56,6 +56,7 @@ typedef struct {
   double tnext;              /* the double after the margin (a distance below it is not clear) */
   long long hint;            /* the pair that collided last (code_lanes' code), or NO_HINT */
   unsigned long long placed; /* the bodies place_soa places (bit b: body b) */
+  long long calls;           /* motions the extension's motion() has checked (a planner's budget) */
   /* per motion (motion_bounds) */
   double *Mc;                /* ncap: curvature bound of the capsules' points (world) */
   double *Mrel;              /* ncap × nbody: curvature bound in each body's frame */

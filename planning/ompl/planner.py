@@ -22,6 +22,7 @@ a failure — :func:`plan` never returns an invalid path as a success.
 """
 from __future__ import annotations
 
+import gc
 import math
 import time
 from dataclasses import dataclass, field
@@ -57,6 +58,12 @@ THREADED_SEARCH = ("PRM", "PRMstar")
 SINGULARITY_SCALE = 0.01
 #: the most sub-states at which the roadmap search evaluates σ_min (about 0.05 s unloaded)
 MAX_COST_STATES = 50_000
+#: tree planners restarted from a new seed when a run checks more motions than its budget (the first
+#: run's, doubled for each next one), and the seed step between runs
+RESTARTABLE = ("RRTConnect", "RRT", "BiTRRT", "TRRT", "LazyRRT", "KPIECE1", "BKPIECE1", "LBKPIECE1", "EST", "BiEST",
+               "SBL", "STRIDE", "PDST")
+RESTART_CHECKS = 4000
+RESTART_SEED_STEP = 7919
 #: default_range: how far (in chain lengths) one edge may move a point of the robot (1.5: the shortest
 #: median and p95 planning times on MotionBenchMaker's Panda problems of 1.5, 2 and 3)
 RANGE_REACH = 1.5
@@ -390,14 +397,47 @@ def _solve(robot, cls, checker: JointSpaceChecker, start_q, goal_q, time_limit, 
         else:
             pdef.setOptimizationObjective(length)
             keep.append(length)
-    pl = cls(si)
-    if hasattr(pl, "setRange"):
-        pl.setRange(default_range(robot) if planner_range is None else float(planner_range))
-    pl.setProblemDefinition(pdef)
-    pl.setup()
-    # the roadmap search is part of the budget: the roadmap grows for 70 % of it
-    status = pl.solve(float(time_limit) * (0.7 if roadmap_objective else 1.0))
+    # Tree planners' run times are heavy-tailed (a few seeds wander for long in a narrow passage): with
+    # the native checker, a run that checks more motions than its budget is restarted from a new seed
+    # with twice the budget, until the time limit.  Budgets count motions, not seconds, so the same seed
+    # gives the same path on any machine.
+    restart = (objective == "none" and cls.__name__ in RESTARTABLE and checker.native is not None
+               and not checker.extras)
+    deadline = time.perf_counter() + float(time_limit) * (0.7 if roadmap_objective else 1.0)
+    budget, attempt = RESTART_CHECKS, 0
+    while True:
+        if attempt:
+            quiet_rng_seed(seed + RESTART_SEED_STEP * attempt)
+            pdef, (s0, s1) = start_goal(space, si, start_q, goal_q)
+            keep += [pdef, s0, s1]
+        pl = cls(si)
+        if hasattr(pl, "setRange"):
+            pl.setRange(default_range(robot) if planner_range is None else float(planner_range))
+        pl.setProblemDefinition(pdef)
+        pl.setup()
+        keep.append(pl)
+        if not restart:
+            # the roadmap search is part of the budget: the roadmap grows for 70 % of it
+            status = pl.solve(float(time_limit) * (0.7 if roadmap_objective else 1.0))
+            break
+        calls = checker.native.motion_calls()
+        first, limit = calls(), budget
+        # each callback wraps OMPL's states in new Python objects: the cyclic collector would walk the heap
+        # again and again (a few % of a long run); nothing cyclic is made meanwhile
+        collecting = gc.isenabled()
+        gc.disable()
+        try:
+            status = pl.solve(ob.PlannerTerminationCondition(
+                lambda: calls() - first > limit or time.perf_counter() >= deadline))
+        finally:
+            if collecting:
+                gc.enable()
+        if (bool(status) and pdef.hasExactSolution()) or time.perf_counter() >= deadline:
+            break
+        attempt, budget = attempt + 1, 2 * budget
     text = str(status)
+    if attempt:
+        text += f" (run {attempt + 1}: a run restarts from a new seed after {RESTART_CHECKS}·2^k motion checks)"
     if not bool(status) or not pdef.hasExactSolution():
         why = {"Approximate solution": f"only an approximate one within {float(time_limit):g} s",
                "Timeout": f"time limit {float(time_limit):g} s reached"}.get(text, f"OMPL: {text}")
