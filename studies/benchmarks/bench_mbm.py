@@ -235,6 +235,10 @@ def _ms(x) -> str:
     return "—" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{1e3 * x:.2f} ms"
 
 
+def _nan(x):
+    return math.nan if x is None else x
+
+
 def format_report(R: dict) -> str:
     env = R["environment"]
     L = [f"bench_mbm — MotionBenchMaker, {R['planner']} ({R['time_limit_s']:g} s), {R['problems_per_scene']} "
@@ -248,7 +252,7 @@ def format_report(R: dict) -> str:
     for rob in R["robots"]:
         L += ["", f"{rob['robot']} ({len(rob['joints'])} joints, {rob['capsules']} spheres)", head]
         for S in [*rob["scenes"], {"scene": "all", "summary": rob["summary"]}]:
-            s = S["summary"]
+            s = {k: _nan(v) if k not in ("invalid_reasons",) else v for k, v in S["summary"].items()}
             wok = f"{100 * s['windows_success_rate']:.0f}%" if not math.isnan(s["windows_success_rate"]) else "—"
             L.append(f"{S['scene']:17s} {s['valid']:>3d}/{s['problems']:<3d}{s['successes']:>6d} "
                      f"{_ms(s['median_time_s']):>10s} {_ms(s['p95_time_s']):>9s} {s['proven']:>4d}/{s['returned']:<3d}"
