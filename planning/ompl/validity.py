@@ -152,16 +152,9 @@ class JointSpaceChecker:
             for lo, hi in ivs:
                 if lo <= v <= hi:
                     return False
-        for g, eps in self._predicates:
-            if abs(g(q)) <= eps:
-                return False
-        if self.sigma_floor is not None and self.sigma(q) < self.sigma_floor:
+        if not self._extras_valid(q):
             return False
-        if self.boxes and self._in_box(np.asarray(q, dtype=float)[None]).any():
-            return False
-        if self.world is not None and not self.world.state_clear(q):
-            return False
-        return True
+        return self.world is None or bool(self.world.state_clear(q))
 
     def _extras_valid(self, q) -> bool:
         """The Python part of :meth:`state_valid` (with the native checker)."""
