@@ -21,7 +21,7 @@ run: $(STAMP)
 # `make test` runs everything but the end-to-end tests marked slow (bundled studies, browsers,
 # sweeps with worker processes, long CLI examples); `make test-slow` runs those; CI runs both.
 test: $(STAMP)
-	@$(BIN)/python -m pytest -q -m "not slow"; rc=$$?; echo $$rc > $(VENV)/.pytest-exit; exit $$rc
+	@$(BIN)/python -m pytest -q -m "not slow" -n auto --maxprocesses 4 --dist loadfile; rc=$$?; echo $$rc > $(VENV)/.pytest-exit; exit $$rc
 
 test-slow: $(STAMP)
 	@$(BIN)/python -m pytest -q -m slow; rc=$$?; echo $$rc > $(VENV)/.pytest-exit; exit $$rc

@@ -1,8 +1,8 @@
 """Which tests are slow: the end-to-end runs (whole bundled studies and their reports in a browser,
 sweeps with worker processes and Dask clusters, the numeric analysis of a 12-joint chain, the long
 command-line examples of the docs) are marked ``slow`` here, in one list, so that ``make test``
-(``pytest -m "not slow"``) stays under five minutes on two cores and ``make test-slow`` runs them;
-CI runs both.  Nothing is skipped: a slow test only runs in the second step."""
+(``pytest -m "not slow"``, on every core by pytest-xdist) stays under five minutes on two cores and
+``make test-slow`` runs them; CI runs both.  Nothing is skipped: a slow test only runs in the second step."""
 from __future__ import annotations
 
 import pytest
@@ -31,6 +31,10 @@ SLOW_TESTS = (
     "tests/planning/windows/test_sampled.py::test_sigma_min_windows_of_a_general_chain",
     "tests/planning/timing/test_torque.py::test_reach_and_qp_agree_with_torque_limits",
     "tests/kin/urdf/test_round_trip.py::test_meshes_of_every_arm_round_trip_and_are_held",
+    "tests/kin/geometry/test_bundled_geometry.py::test_panda_capsules_are_those_of_the_meshes",
+    "tests/planning/certify/test_points.py::test_proven_segments_are_clear_and_violations_are_inside",
+    "tests/studies/benchmarks/test_bench_mbm.py::test_one_problem_per_scene_reports_every_figure",
+    "tests/studies/benchmarks/test_bench_startup.py::test_the_report_holds_every_command",
 )
 
 #: `rmt` commands of the docs' examples that run a study, a sweep, an optimisation or a follower

@@ -153,7 +153,7 @@ def test_model_good_on_its_branch_and_not_better_at_the_singularity(fitted, scar
     Qs = report["data"]["q_true"]
     err_sing = np.abs(fitted.predict(scara_fk(Qs))[:, 1]).mean()
     ratio = err_sing / err_far
-    record_property("singular_to_regular_mean_q2_error_ratio", ratio)
+    record_property("singular_to_regular_mean_q2_error_ratio", float(ratio))
     assert ratio >= 1.0
 
 
