@@ -436,12 +436,13 @@ def _solve(robot, cls, checker: JointSpaceChecker, start_q, goal_q, time_limit, 
             break
         attempt, budget = attempt + 1, 2 * budget
     text = str(status)
-    if attempt:
-        text += f" (run {attempt + 1}: a run restarts from a new seed after {RESTART_CHECKS}·2^k motion checks)"
+    runs = f" ({attempt + 1} runs: a run restarts from a new seed after {RESTART_CHECKS}·2^k motion checks)" \
+        if attempt else ""
     if not bool(status) or not pdef.hasExactSolution():
         why = {"Approximate solution": f"only an approximate one within {float(time_limit):g} s",
                "Timeout": f"time limit {float(time_limit):g} s reached"}.get(text, f"OMPL: {text}")
-        return None, None, f"no exact solution: {why}"
+        return None, None, f"no exact solution: {why}{runs}"
+    text += runs
     path = pdef.getSolutionPath()
     raw = np.array([[path.getState(k)[i] for i in range(n)] for k in range(path.getStateCount())])
     if roadmap_objective:
