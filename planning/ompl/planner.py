@@ -18,7 +18,12 @@ Every returned path is re-checked by :func:`planning.validate.check_path`, indep
 planner (and, with keep-out boxes, its densely interpolated tool points against the boxes), and
 proven clear of every window segment by segment (:func:`planning.certify.certify_path`); a path that
 fails is repaired (the unsimplified path, then re-planning with a finer motion step) or reported as
-a failure — :func:`plan` never returns an invalid path as a success.
+a failure — :func:`plan` never returns an invalid path as a success.  With the native motion checker
+(a C compiler: almost always) that re-check is by the proofs alone (``check_path(..., dense=False)``:
+windows, σ_min floor and collisions proven segment by segment, the dense states evaluated only where
+a proof stays open), so the figures of :attr:`PlanResult.check` and :attr:`PlanResult.min_sigma` are
+then those at the waypoints; ``check_path(robot, res.path, ...)`` gives the dense ones (what
+``rmt plan`` prints).
 """
 from __future__ import annotations
 
@@ -88,8 +93,8 @@ class PlanResult:
     planner: str
     time_s: float
     length: float               # Σ ‖Δq‖ along the path (joint-space length)
-    min_sigma: float
-    check: PathCheck | None
+    min_sigma: float            # at the states the final check evaluated (the waypoints with the native checker)
+    check: PathCheck | None     # the final check (by proofs alone with the native checker: see the module)
     status: str
     straight_line_valid: bool
     goal: np.ndarray | None = None

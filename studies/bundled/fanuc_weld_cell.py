@@ -407,7 +407,8 @@ def run(s: Study) -> None:
             s.text(f"**The cell-aware plan found no path** ({aware.status}).")
             s.finding(f"the cell-aware plan found no path ({aware.status})", ok=False)
             return
-        c_aware = aware.check
+        # plan() returned it proven; the table's re-check is the dense one, with the proven clearance bound
+        c_aware = check_path(robot, aware.path, windows, world=world)
         d_aware = deepest(world, aware.path, "cell")
         d_aware_self = deepest(world, aware.path, "self")
         s.table(["path", "waypoints", "joint-space length (rad)", "windows", "collisions (with the cell)",
@@ -465,7 +466,8 @@ def run(s: Study) -> None:
             "windows_margin": margin,
             "windows_only": {**blind.to_dict(), "cell_check": c_blind.to_dict(), "deepest": contact(d_blind),
                              "numpy_clearance": plain},
-            "cell_aware": {**aware.to_dict(), "closest_cell": contact(d_aware), "closest_self": contact(d_aware_self)}}
+            "cell_aware": {**aware.to_dict(), "check": c_aware.to_dict(), "closest_cell": contact(d_aware),
+                           "closest_self": contact(d_aware_self)}}
         collided = c_blind.first_violation is not None and c_blind.first_violation.kind == "collision" and kernel < 0
         s.finding(f"the windows-only plan is proven clear of the windows but drives {into(d_blind['text'])}, "
                   f"{mm(-kernel)} deep (a plain numpy check: {mm(-plain)})", ok=collided and abs(plain - kernel) < 1e-4)

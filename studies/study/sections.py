@@ -7,6 +7,7 @@ study can go on with it.  Values are shown in the robot file's units.
 """
 from __future__ import annotations
 
+import dataclasses
 import tempfile
 from pathlib import Path
 
@@ -171,6 +172,7 @@ def planned_path(s: Study, robot: kin.Robot, windows, start, goal, *, planner: s
     """Plan start → goal (SI) around ``windows`` (and above the σ_min floor ``sigma_min``, SI, when
     given), check it, and report it; returns the PlanResult."""
     from planning.ompl.planner import plan
+    from planning.validate import check_path
 
     c = robot.chain
     for k, v in (("planner", planner), ("time limit (s)", time_limit), ("seed", seed), ("objective", objective)):
@@ -180,6 +182,10 @@ def planned_path(s: Study, robot: kin.Robot, windows, start, goal, *, planner: s
     start, goal = np.asarray(start, float), np.asarray(goal, float)
     res = plan(robot, start, goal, windows, planner=planner, time_limit=time_limit, seed=seed, objective=objective,
                sigma_min=sigma_min)
+    if res.success:
+        # plan() returns its path proven; the report's figures are the dense re-check's (σ_min at every 0.1°)
+        dense = check_path(robot, res.path, windows, sigma_min)
+        res = dataclasses.replace(res, min_sigma=dense.min_sigma, check=dense)
     d = jsonable(res.to_dict())
     d["path"] = c.from_si(res.path).tolist() if res.success else []
     d["straight_line_length"] = float(np.linalg.norm(goal - start))
