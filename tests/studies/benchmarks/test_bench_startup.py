@@ -12,7 +12,8 @@ def test_the_report_holds_every_command(capsys):
     d = json.loads(capsys.readouterr().out)
     names = set(d["results"])
     assert {"rmt plan (separated query)", "rmt plan (around the shoulder window)", "rmt check-path (that path)",
-            "python -c 'import numpy' (floor)"} <= names
+            "rmt plan --cell (the weld cell)", "python -c 'import numpy' (floor)"} <= names
     for r in d["results"].values():
         assert r["runs"] == 1 and 0 < r["min_s"] <= r["median_s"] <= r["max_s"]
     assert d["target_s"] == 0.5 and d["verdict"] in ("PASS", "MISS")
+    assert set(d["verdicts"]) == {"rmt plan (separated query)", "rmt plan --cell (the weld cell)"}
