@@ -137,6 +137,9 @@ class Chain:
     payload: object | None = None
     #: gravity in the base placement's frame (m/s², the frame below ``base``): default 9.81 m/s² down z
     gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
+    #: the σ_min floor (SI) the CLI's path checks apply by default; None: the rule of
+    #: :func:`kin.singular.floor.default_sigma_floor` (docs/robot-files.md, "sigma_floor")
+    sigma_floor: float | None = None
 
     def __post_init__(self):
         if not self.joints:
@@ -196,6 +199,10 @@ class Chain:
         if g.shape != (3,) or not np.all(np.isfinite(g)) or float(np.linalg.norm(g)) > 1e3:
             raise ChainError(f"gravity {self.gravity!r} must be 3 finite numbers (m/s², at most 1000 in size)")
         object.__setattr__(self, "gravity", tuple(float(x) for x in g))
+        f = self.sigma_floor
+        if f is not None and (isinstance(f, bool) or not isinstance(f, (int, float)) or not math.isfinite(f)
+                              or not 0 <= f <= 1e3):
+            raise ChainError(f"sigma_floor = {f!r} must be a finite number in [0, 1000] (SI) or None")
         if self.task is not None:
             bad = [r for r in self.task if r not in TASK_ROWS]
             if bad or not self.task or len(set(self.task)) != len(self.task):

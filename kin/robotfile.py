@@ -35,7 +35,7 @@ from kin.validation import Fields, type_name
 
 ROBOT_DIR = Path(__file__).parent / "robots"
 TOP_FIELDS = ("name", "title", "source", "convention", "length_unit", "angle_unit", "joints", "base",
-              "tool", "parameters", "task", "geometry", "payload", "gravity")
+              "tool", "parameters", "task", "geometry", "payload", "gravity", "sigma_floor")
 REQUIRED_TOP = ("name", "convention", "length_unit", "angle_unit", "joints")
 JOINT_FIELDS = ("type", "a", "alpha", "d", "theta", "limits", "name", "max_velocity", "max_acceleration",
                 "max_torque", "inertial")
@@ -63,6 +63,8 @@ MIN_LENGTH = 1e-9
 MAX_TORQUE = 1e7
 #: the largest gravity vector (m/s²) a robot file may give, as :class:`~kin.chain.Chain` allows
 MAX_GRAVITY = 1e3
+#: the largest ``sigma_floor`` (SI) a robot file may give, as :class:`~kin.chain.Chain` allows
+MAX_SIGMA_FLOOR = 1e3
 
 
 # ---- bundled library ---------------------------------------------------------------------------
@@ -262,6 +264,11 @@ def loads_robot(text: str, path: str | None = None) -> Chain:
         if math.hypot(*g) > MAX_GRAVITY:
             raise r.fail("gravity", f"{g} is {math.hypot(*g):g} m/s² in size; at most {MAX_GRAVITY:g} m/s²")
         dyn["gravity"] = tuple(g)
+    if "sigma_floor" in doc:      # SI whatever the file's units (σ_min mixes m and rad: docs/robot-files.md)
+        f = r.number(doc["sigma_floor"], "sigma_floor")
+        if not 0 <= f <= MAX_SIGMA_FLOOR:
+            raise r.fail("sigma_floor", f"{f:g} is outside the allowed range [0, {MAX_SIGMA_FLOOR:g}] (SI)")
+        dyn["sigma_floor"] = f
     try:
         chain = Chain(name=name, joints=tuple(joints), convention=convention, title=title, source=source,  # type: ignore[arg-type]
                       length_unit=lu, angle_unit=au, base=base, tool=tool, parameters=params, task=task, **dyn)
@@ -526,6 +533,8 @@ def dumps_robot(chain: Chain) -> str:
         out.append("task = [" + ", ".join(_str(t) for t in chain.task) + "]")
     if chain.gravity != (0.0, 0.0, -9.81):
         out.append(f"gravity = {_vec(chain.gravity)}")
+    if chain.sigma_floor is not None:
+        out.append(f"sigma_floor = {_fmt(chain.sigma_floor)}")
     for j in chain.joints:
         out += ["", "[[joints]]"]
         if j.name:
