@@ -1,4 +1,6 @@
 """Analytic inverse kinematics of 6R arms with a spherical wrist (Pieper's solution): every branch.
+Arms whose joints 2, 3, 4 are parallel instead (the UR family) are solved by :mod:`kin.ik.parallel`;
+:func:`analytic_ik` dispatches to whichever structure the DH values show (:func:`closed_form`).
 
 The chain is read in modified DH (``Chain.to_modified``; rows i = 1…6 hold a_{i−1}, α_{i−1}, d_i and
 the offset of θ_i = q_i + offset).  It has a closed form when all six joints are revolute and the
@@ -36,7 +38,7 @@ from kin.errors import RmtError
 from kin.ik.numeric import _targets
 from kin.transforms import make_transform, rot_x, rot_z, rotation_error
 
-__all__ = ["NoClosedFormError", "PieperArm", "analytic_ik", "pieper_arm"]
+__all__ = ["NoClosedFormError", "PieperArm", "analytic_ik", "closed_form", "pieper_arm"]
 
 _EPS = 1e-12
 
@@ -244,23 +246,40 @@ def _errors(robot, Q, T, P) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndar
     return ep, eo, J, Tq
 
 
+def closed_form(chain: Chain, params=None):
+    """The closed-form structure of ``chain``: a :class:`PieperArm` (spherical wrist) or a
+    :class:`kin.ik.parallel.ParallelArm` (joints 2, 3, 4 parallel, the UR family); raises
+    :class:`NoClosedFormError` saying why neither fits."""
+    from kin.ik.parallel import parallel_arm
+    try:
+        return pieper_arm(chain, params)
+    except NoClosedFormError as e:
+        arm = parallel_arm(chain, params)
+        if isinstance(arm, str):
+            raise NoClosedFormError(f"{e}; nor is it a parallel-axes arm: {arm}") from None
+        return arm
+
+
 def analytic_ik(robot, T, params=None, q_ref=None, all_turns: bool = False, tol: float = 1e-9):
-    """Every IK branch of a spherical-wrist 6R arm within the joint limits.
+    """Every IK branch of a 6R arm with a closed form (a spherical wrist, or joints 2, 3, 4 parallel as
+    on the UR family, :mod:`kin.ik.parallel`) within the joint limits.
 
     Parameters
     ----------
     T : target pose (4, 4) or batch (N, 4, 4), base frame, SI (a rigid transform).
     params : design parameters (mapping or (n_p,)); None: nominal.
-    q_ref : (6,) angles are moved by whole turns into the limits nearest this configuration (default 0);
-        ``all_turns``: list every whole-turn variant within the limits instead.
+    q_ref : (6,) each branch is moved by whole turns into the limits nearest this configuration
+        (default 0); ``all_turns``: list every whole-turn copy of every branch within the limits
+        instead (up to 2⁶ per branch on joints of ±360°).
     tol : a branch is kept when its FK position error (m) and orientation error (rad) are ≤ tol.
 
     Returns (k, 6) configurations, SI, sorted by distance to ``q_ref`` (k = 0 when the target is out
     of reach or every branch is beyond the limits), or a list of such arrays for a batch.  Raises
     :class:`NoClosedFormError` for a chain without a closed form.
     """
+    from kin.ik.parallel import ParallelArm, parallel_candidates
     chain = robot.chain
-    arm = pieper_arm(chain, None if params is None else chain.parameter_vector(params))
+    arm = closed_form(chain, None if params is None else chain.parameter_vector(params))
     Pt, Rt, single = _targets(T, f"for {chain.name}")
     if Rt is None:
         raise NoClosedFormError("analytic IK needs a pose target (4, 4); a position alone has a continuum of solutions")
@@ -271,10 +290,26 @@ def analytic_ik(robot, T, params=None, q_ref=None, all_turns: bool = False, tol:
         Tt = np.eye(4)
         Tt[:3, :3], Tt[:3, 3] = R, p
         W = Tt @ arm.tool_inv
-        thetas = _arm_candidates(arm, W)
-        cands = [q for th in thetas for q in _into_limits(th - arm.offset, arm.lower, arm.upper, ref, all_turns)]
-        results.append(_verified(robot, cands, Tt, P, arm, tol, ref))
+        if isinstance(arm, ParallelArm):
+            thetas = parallel_candidates(arm, W, ref + arm.offset)
+        else:
+            thetas = _arm_candidates(arm, W)
+        cands = [q for th in thetas for q in _into_limits(th - arm.offset, arm.lower, arm.upper, ref, False)]
+        Q = _verified(robot, cands, Tt, P, arm, tol, ref)
+        if all_turns and len(Q):
+            Q = _dedup([c for q in Q for c in _into_limits(q, arm.lower, arm.upper, ref, True)], ref)
+        results.append(Q)
     return results[0] if single else results
+
+
+def _dedup(Q, ref) -> np.ndarray:
+    """The distinct rows of Q (1e-7), sorted by distance to ``ref``."""
+    Q = np.asarray(Q, dtype=float).reshape(-1, 6)
+    keep: list[np.ndarray] = []
+    for q in Q[np.argsort(np.linalg.norm(Q - ref, axis=1), kind="stable")]:
+        if all(np.abs(q - k).max() > 1e-7 for k in keep):
+            keep.append(q)
+    return np.array(keep).reshape(-1, 6)
 
 
 def _verified(robot, cands, Tt, P, arm, tol, ref) -> np.ndarray:
@@ -295,9 +330,4 @@ def _verified(robot, cands, Tt, P, arm, tol, ref) -> np.ndarray:
         idx = np.nonzero(todo)[0][better]
         Q[idx], ep[idx], eo[idx], J[idx] = Qn[better], epn[better], eon[better], Jn[better]
     ok = (np.linalg.norm(ep, axis=1) <= tol) & (np.linalg.norm(eo, axis=1) <= tol)
-    Q = Q[ok]
-    keep: list[np.ndarray] = []
-    for q in Q[np.argsort(np.linalg.norm(Q - ref, axis=1), kind="stable")]:
-        if all(np.abs(q - k).max() > 1e-7 for k in keep):
-            keep.append(q)
-    return np.array(keep).reshape(-1, 6)
+    return _dedup(Q[ok], ref)
