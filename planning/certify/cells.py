@@ -5,13 +5,16 @@ involves both.  The free space (inside the limits, outside every window) is then
 free set per group, so a joint path exists only if, in every group, the start's and the goal's
 projections lie in one connected piece of that group's free set.
 
-* A group of one joint whose windows are intervals (a single-joint factor, e.g. the wrist window
-  q5 ∈ [−m, m]) is a line minus intervals: its free pieces are intervals, decided exactly.  Such a
-  window is a slab across the whole joint space — it separates every configuration on one side
-  from every one on the other.
+* A window that is an interval of one joint (a single-joint factor, e.g. the wrist window
+  q5 ∈ [−m, m], or UR's elbow window q3 ∈ [180° − m, 180° + m] + 360°k) is a slab across the whole
+  joint space — it separates every configuration on one side from every one on the other, whatever
+  other windows share its joint.  Every such slab, of every group, is checked first, exactly; a
+  group of one joint with only such windows is then fully decided.
 * A group of two or three joints is covered by a grid of cells over its joint limits.  A cell is
   *blocked* only when interval arithmetic proves it lies wholly inside one window
-  (:mod:`planning.certify.intervals`); the unblocked cells, joined through faces, edges and corners
+  (:mod:`planning.certify.intervals`); the grid's edges along a joint are also split at the bounds
+  of that joint's slabs, so that a slab narrower than a cell still blocks whole cells and joins the
+  other windows in cutting the group; the unblocked cells, joined through faces, edges and corners
   (labelled by :func:`label_cells`), hold the whole free set.  If the start's and the goal's cells
   are in different components of the unblocked cells, no joint path exists — a proof, whatever the
   grid's resolution (a coarser grid only proves less).
@@ -165,8 +168,8 @@ class FreeCells:
         R = self.grid_cells.get(d)
         result = None
         if R:
-            edges = [np.linspace(self.lower[j], self.upper[j], R + 1) for j in js]
-            idx = np.stack(np.meshgrid(*[np.arange(R)] * d, indexing="ij"), axis=-1).reshape(-1, d)
+            edges = [self._edges(j, ws, R) for j in js]
+            idx = np.stack(np.meshgrid(*[np.arange(len(e) - 1) for e in edges], indexing="ij"), axis=-1).reshape(-1, d)
             lo = np.tile(self.lower, (len(idx), 1))
             hi = np.tile(self.upper, (len(idx), 1))
             for c, j in enumerate(js):
@@ -188,11 +191,21 @@ class FreeCells:
                 glo, ghi = fn(lo, hi)
                 blocked |= (glo >= -w.epsilon) & (ghi <= w.epsilon)
                 used.append(w.name)
-            free = ~blocked.reshape((R,) * d)
+            free = ~blocked.reshape(tuple(len(e) - 1 for e in edges))
             labels = label_cells(free)
-            result = (labels, np.array(edges), free, used)
+            result = (labels, edges, free, used)
         self._grids[js] = result
         return result
+
+    def _edges(self, j: int, ws, R: int) -> np.ndarray:
+        """Cell edges along joint ``j``: R equal cells over its limits, split again at every bound of
+        the single-joint interval windows on ``j`` (a slab then blocks whole cells exactly, however
+        narrow it is beside the cells)."""
+        lo, hi = self.lower[j], self.upper[j]
+        cuts = [v for w in ws if w.is_interval and w.joint == j for iv in w.intervals for v in iv if lo < v < hi]
+        e = np.unique(np.concatenate([np.linspace(lo, hi, R + 1), np.asarray(cuts, dtype=float)]))
+        keep = np.concatenate([[True], np.diff(e) > 1e-12 * max(1.0, hi - lo)])
+        return e[keep]
 
     def _cell(self, edges, q, js):
         return tuple(int(np.clip(np.searchsorted(edges[c], q[j], side="right") - 1, 0, len(edges[c]) - 2))
@@ -203,25 +216,30 @@ class FreeCells:
         Both are assumed valid (inside the limits and outside every window)."""
         a = np.asarray(start, dtype=float)
         b = np.asarray(goal, dtype=float)
+        # first, exactly: every single-joint interval window is a slab across the whole joint space,
+        # whichever group it shares with other windows (leaving those out only enlarges the free set)
+        for js, ws in self.groups:
+            for j in js:
+                slabs = [w for w in ws if w.is_interval and w.joint == j]
+                sep = self._slab(j, slabs, float(a[j]), float(b[j])) if slabs else None
+                if sep is not None:
+                    return sep
         for js, ws in self.groups:
             if len(js) == 1 and all(w.is_interval for w in ws):
-                sep = self._slab(js[0], ws, float(a[js[0]]), float(b[js[0]]))
-            else:
-                grid = self._grid(js, ws)
-                if grid is None:
-                    continue
-                labels, edges, free, used = grid
-                ca, cb = self._cell(edges, a, js), self._cell(edges, b, js)
-                la, lb = labels[ca], labels[cb]
-                if la == 0 or lb == 0 or la == lb:      # 0: a blocked cell (the point is not free)
-                    continue
-                names = ", ".join(f"q{j + 1}" for j in js)
-                sep = Separation(tuple(j + 1 for j in js), tuple(used), "cells",
-                                 f"the windows {', '.join(repr(u) for u in used)} cut joints ({names}) into "
-                                 f"separate free regions: start ({', '.join(_fmt(a[j]) for j in js)}) and goal "
-                                 f"({', '.join(_fmt(b[j]) for j in js)}) lie in different ones")
-            if sep is not None:
-                return sep
+                continue                       # decided exactly above
+            grid = self._grid(js, ws)
+            if grid is None:
+                continue
+            labels, edges, free, used = grid
+            ca, cb = self._cell(edges, a, js), self._cell(edges, b, js)
+            la, lb = labels[ca], labels[cb]
+            if la == 0 or lb == 0 or la == lb:      # 0: a blocked cell (the point is not free)
+                continue
+            names = ", ".join(f"q{j + 1}" for j in js)
+            return Separation(tuple(j + 1 for j in js), tuple(used), "cells",
+                              f"the windows {', '.join(repr(u) for u in used)} cut joints ({names}) into "
+                              f"separate free regions: start ({', '.join(_fmt(a[j]) for j in js)}) and goal "
+                              f"({', '.join(_fmt(b[j]) for j in js)}) lie in different ones")
         return None
 
     def same_cell(self, start, goal) -> bool:

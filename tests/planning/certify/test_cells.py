@@ -55,7 +55,8 @@ def test_cell_verdicts_agree_with_a_fine_sampled_labelling(fanuc):
         sep = fc.separation(a, b)
         la, lb = lab(a), lab(b)
         if sep is not None:
-            assert sep.kind == "cells" and sep.joints == (2, 3)
+            # a slab of q2 or q3 within the (q2, q3) group is decided exactly first
+            assert (sep.kind, sep.joints) in (("cells", (2, 3)), ("slab", (2,)), ("slab", (3,)))
             separated += 1
             assert la != lb or la == 0                               # never a verdict on a connected pair
         elif la and la == lb:
