@@ -101,6 +101,24 @@ class PlacementRegion:
             ok &= ~((U[:, 0] > x0) & (U[:, 0] < x1) & (U[:, 1] > y0) & (U[:, 1] < y1))
         return ok
 
+    def locate(self, u, tol: float = 1e-9) -> tuple[np.ndarray, str | None]:
+        """A placement u (6,) as the region writes it (yaw moved by a full turn into the yaw range when
+        that brings it in) and why it lies outside the region (None when inside): a coordinate out of
+        its bounds, roll or pitch beyond the tilt, the origin in a keep-out rectangle."""
+        u = np.array(u, float)
+        lo, hi = self.yaw
+        for k in (-1, 1):
+            if not lo - tol <= u[5] <= hi + tol and lo - tol <= u[5] + 2 * k * math.pi <= hi + tol:
+                u[5] += 2 * k * math.pi
+        b = self.bounds
+        for i, name in enumerate(COORDINATES):
+            if not b[i, 0] - tol <= u[i] <= b[i, 1] + tol:
+                what = "tilt" if name in ("roll", "pitch") else name
+                return u, f"its {name} {u[i]:.6g} lies outside the region's {what} [{b[i, 0]:.6g}, {b[i, 1]:.6g}] (SI)"
+        if not self.allowed(u[None])[0]:
+            return u, "its origin stands in a keep-out rectangle"
+        return u, None
+
     def to_dict(self) -> dict:
         return {"x": list(self.x), "y": list(self.y), "z": list(self.z), "yaw": list(self.yaw), "tilt": self.tilt,
                 "keep_out": [list(r) for r in self.keep_out], "free": self.names()}

@@ -10,6 +10,13 @@ cross-checked by differential evolution and by a grid, every answer re-verified 
 4. *Verification*: every method's best placement gets the full reach study (the collisions of the
    cell, the windows); the placement with the best verified value (reached targets, then mean
    score) is the answer, and the result says which method found it and how the others compare.
+
+The *current* placement (the cell's, identity without a cell) is a candidate of every search when it
+lies in the region: screened with the quasi-random candidates, a member of differential evolution's
+first population, a point of the grid, and verified by the full study like the others.  Another
+placement is the answer only when its verified value beats the current one's; otherwise the answer is
+the current placement and the result says so (``current_is_best``): a search never recommends a
+worse spot than where the robot stands.
 """
 from __future__ import annotations
 
@@ -35,20 +42,25 @@ from design.reach.study import ReachProblem, ReachSettings, ReachStudy
 from design.task.model import Dexterity, Targets, TaskError
 from kin.transforms import matrix_to_rpy
 
-__all__ = ["place", "PlacementResult", "SCREEN", "MAX_GRID"]
+__all__ = ["place", "PlacementResult", "SCREEN", "MAX_GRID", "CURRENT_TIE"]
 
 #: the light reach study that scores many placements (the verification uses the full settings)
 SCREEN = ReachSettings(starts=2, samples=2048, spins=4, max_iter=100)
 #: the most placements the grid cross-check may hold (``grid`` to the power of the free coordinates)
 MAX_GRID = 1_000_000
+#: another placement replaces the current one only when its verified value is higher by more than this
+#: share of max(1, |value|) (two studies of equal placements may differ in the last digits)
+CURRENT_TIE = 1e-9
 
 
 @dataclass
 class PlacementResult:
     """The answer of :func:`place` (SI).  ``u`` the placement (x, y, z, roll, pitch, yaw);
     ``study`` the full reach study there; ``before`` the study at the starting placement (the cell's);
-    ``method`` which search found ``u``; ``methods``: per method its best placement, verified value,
-    coverage, mean score and time; ``ipopt`` the runs."""
+    ``method`` which search found ``u`` (``"current"``: the starting placement is the best found);
+    ``methods``: per method its best placement, verified value, coverage, mean score and time;
+    ``ipopt`` the runs; ``current``: the starting placement (SI, yaw in the region's range) and
+    ``current_reason`` why it was not a candidate (None: it was)."""
 
     robot: str
     region: PlacementRegion
@@ -62,6 +74,13 @@ class PlacementResult:
     notes: list[str] = field(default_factory=list)
     #: the grid cross-check's placements and light-study values (None without a grid)
     grid: Evaluated | None = None
+    current: np.ndarray | None = None
+    current_reason: str | None = None
+
+    @property
+    def current_is_best(self) -> bool:
+        """Whether the starting placement is the answer (no search found a better verified one)."""
+        return self.method == "current"
 
     @property
     def matrix(self) -> np.ndarray:
@@ -75,7 +94,11 @@ class PlacementResult:
                "ipopt_runs": [{"u0": r.u0.tolist(), "u": r.u.tolist(), "objective": r.objective,
                                "success": r.success, "status": r.status, "iterations": r.iterations,
                                "time_s": r.time_s, "keep_out_sides": list(r.sides)} for r in self.ipopt],
-               "time_s": self.time_s, "notes": list(self.notes), "study": self.study.summary()}
+               "time_s": self.time_s, "notes": list(self.notes), "study": self.study.summary(),
+               "current_is_best": self.current_is_best,
+               "current": None if self.current is None else
+               {"placement": [float(v) for v in self.current], "candidate": self.current_reason is None,
+                "reason": self.current_reason}}
         if self.before is not None:
             out["before"] = self.before.summary()
         return out
@@ -120,6 +143,9 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
     base0 = np.array(cell.base) if cell is not None else np.eye(4)
     if region is None:
         region = PlacementRegion.default(robot, targets.positions, z=float(base0[2, 3]))
+    # the current placement: a candidate of every search when the region holds it
+    u_now, why_not = region.locate(np.concatenate([base0[:3, 3], matrix_to_rpy(base0[:3, :3])]))
+    now = u_now[None] if why_not is None else np.empty((0, 6))
     k = int(region.free.sum())
     if grid and grid ** k > MAX_GRID:       # the grid is built whole: 1000 values on 3 coordinates would be 10⁹
         raise TaskError(f"grid = {grid} values on each of the {k} free coordinates ({', '.join(region.names())}) "
@@ -139,10 +165,10 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
 
     # 1–2: candidates and IPOPT
     t0 = time.perf_counter()
-    C = halton_placements(region, candidates)
+    C = np.vstack([now, halton_placements(region, candidates)])
     if not len(C):
         raise TaskError("the placement region lies inside the keep-out rectangles: no placement to try")
-    say(f"screening {len(C)} candidate placements")
+    say(f"screening {len(C) - len(now)} candidate placements" + (" and the current one" if len(now) else ""))
     ev = evaluate_placements(light, C, region, keep_q=True, deadline=deadline)
     order = np.argsort(-ev.value, kind="stable")[:starts]
     nlp = PlacementNlp(robot, targets, region, weights, full.dex_ref, cell is not None,
@@ -179,13 +205,14 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
     if de_iterations and time.perf_counter() < deadline:
         say("differential evolution")
         de: SearchResult = de_search(light, region, seed=seed, maxiter=de_iterations, progress=say,
-                                     max_time=max(1.0, deadline - time.perf_counter()))
+                                     max_time=max(1.0, deadline - time.perf_counter()),
+                                     x0=u_now if why_not is None else None)
         if de.u is not None:
             verify("differential_evolution", de.u, de.time_s,
                    {"evaluations": de.evaluations, "generations": de.generations, "message": de.message})
     eg = None
     if grid and time.perf_counter() < deadline:
-        U = grid_placements(region, grid)
+        U = np.vstack([grid_placements(region, grid), now])
         say(f"grid: {len(U)} placements")
         t1 = time.perf_counter()
         eg = evaluate_placements(light, U, region, deadline=deadline)
@@ -195,10 +222,19 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
     if not verified:      # every search ran out of time: the best screened candidate
         verify("candidates", ev.U[ev.best()], ev.time_s, {"candidates": len(C)})
     name, u, study = max(verified, key=lambda v: v[2].value)
+    t1 = time.perf_counter()
     before = full.study(base0)
     notes = []
+    if why_not is None:
+        methods["current"] = _verified("current", u_now, before, time.perf_counter() - t1)
+        if before.value >= study.value - CURRENT_TIE * max(1.0, abs(before.value)):
+            name, u, study = "current", u_now, before
+            notes.append(f"the current placement is already the best found (coverage {100 * before.coverage:.1f} %, "
+                         f"mean score {before.mean_score:.3f}); no search found a better one")
+    else:
+        notes.append(f"the current placement is not a candidate: {why_not}")
     if time.perf_counter() > deadline:
         notes.append(f"the time budget of {max_time:g} s ran out; the searches stopped early")
     return PlacementResult(robot=robot.name, region=region, u=np.asarray(u, float), study=study, before=before,
                            method=name, methods=methods, ipopt=runs, time_s=time.perf_counter() - t_start,
-                           notes=notes, grid=eg)
+                           notes=notes, grid=eg, current=u_now, current_reason=why_not)

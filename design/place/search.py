@@ -105,9 +105,11 @@ class SearchResult:
 
 
 def de_search(problem: ReachProblem, region: PlacementRegion, seed: int = 0, maxiter: int = 30, popsize: int = 10,
-              progress: Callable[[str], None] | None = None, max_time: float = 600.0) -> SearchResult:
+              progress: Callable[[str], None] | None = None, max_time: float = 600.0,
+              x0: np.ndarray | None = None) -> SearchResult:
     """Differential evolution over the free coordinates, maximising the reach value (scipy's
-    ``differential_evolution``: seeded, deferred updating, no gradient polish)."""
+    ``differential_evolution``: seeded, deferred updating, no gradient polish).  ``x0``: a full
+    placement (6,) inside the region made a member of the first population (the current one)."""
     t0 = time.perf_counter()
     b = region.bounds[region.free]
     evals = [0]
@@ -128,8 +130,10 @@ def de_search(problem: ReachProblem, region: PlacementRegion, seed: int = 0, max
             progress(f"differential evolution: {evals[0]} placements, best value {best[0]:.4f}")
         return time.perf_counter() > deadline
 
+    start = None if x0 is None else np.clip(np.asarray(x0, float)[region.free], b[:, 0], b[:, 1])
     res = differential_evolution(f, b, seed=seed, maxiter=maxiter, popsize=popsize, vectorized=True,
-                                 updating="deferred", polish=False, tol=0, atol=0, callback=cb, init="sobol")
+                                 updating="deferred", polish=False, tol=0, atol=0, callback=cb, init="sobol",
+                                 x0=start)
     u = best[1] if best[1] is not None else region.full(res.x)
     return SearchResult(np.asarray(u, float), float(best[0]), evals[0], int(res.nit), time.perf_counter() - t0,
                         str(res.message))

@@ -18,7 +18,7 @@ from studies.jsonio import dump
 #: the score's dexterity measures (:data:`design.reach.MEASURES`; not imported: ``rmt --help`` stays light)
 MEASURES = ("sigma_min", "manipulability")
 #: the methods of :func:`design.place.place`, in the order the summary lists them
-METHODS = ("ipopt", "differential_evolution", "grid", "candidates")
+METHODS = ("current", "ipopt", "differential_evolution", "grid", "candidates")
 #: how errors name the placement options (:func:`design.task.file.placement_region`)
 FIELDS = {"x": "--region XMIN XMAX", "y": "--region YMIN YMAX", "z": "--region ZMIN ZMAX", "yaw": "--yaw",
           "tilt": "--tilt", "keep_out": "--keep-out", "": "placement region"}
@@ -98,6 +98,9 @@ def _summary(res, task, region, ls: float, as_: float) -> list[str]:
         cells = [row[0].ljust(width[0])] + [c.rjust(w) for c, w in zip(row[1:-1], width[1:-1])] + [row[-1]]
         lines.append(("  " + "  ".join(cells)).rstrip())
     u = res.u
+    if res.current_is_best:
+        lines.append(f"the current placement is already the best found (coverage {100 * study.coverage:.1f} %, "
+                     f"mean score {study.mean_score:.3f}); keep the robot where it stands")
     lines.append(f"answer ({res.method}): xyz {' '.join(_fmt(v / ls) for v in u[:3])} {lu}, "
                  f"rpy {' '.join(_fmt(v / as_) for v in u[3:])} {au}")
     if before is not None:
@@ -114,7 +117,7 @@ def _summary(res, task, region, ls: float, as_: float) -> list[str]:
     missed.pop("reached", None)
     if missed:
         lines.append("unreached at the answer: " + ", ".join(f"{k} {v}" for k, v in missed.items()))
-    lines += [f"note: {n}" for n in (*res.notes, *study.notes)]
+    lines += [f"note: {n}" for n in (*res.notes, *study.notes) if not n.startswith("the current placement is already")]
     return lines
 
 

@@ -90,7 +90,7 @@ def test_the_answer_is_the_centre_and_reaches_every_target(answer):
     assert out["length_unit"] == "m" and out["units"] == "SI (m, rad)" and out["task"] == "ring"
     assert out["region"]["free"] == ["x", "y"] and out["region"]["x"] == [-1.0, 2.0]
     # every method verified; the grid (step 3/11 m, c not on it) cannot reach both boundary circles
-    assert set(out["methods"]) == {"ipopt", "differential_evolution", "grid"}
+    assert set(out["methods"]) == {"current", "ipopt", "differential_evolution", "grid"}
     assert out["methods"]["grid"]["coverage_percent"] < 100.0
     assert out["method"] == "ipopt" and out["methods"]["ipopt"]["coverage_percent"] == 100.0
     n = len(ring_points())
@@ -129,7 +129,7 @@ def test_command_line_region_in_task_units_with_the_summary(files):
     rc, out, err = run(["place", "planar_2r", str(files["bare_mm"]), "--region", "-1000", "2000", "-1000", "2000",
                         "0", "0", "--yaw", "0", "0", "--starts", "2", "--candidates", "16"], tty=True)
     assert rc == 0, err
-    assert err.startswith("… screening 16 candidate placements\n") and "… IPOPT start 2/2" in err
+    assert err.startswith("… screening 16 candidate placements and the current one\n") and "… IPOPT start 2/2" in err
     lines = out.splitlines()
     assert lines[0].startswith("planar_2r: task ring_mm, 144 targets, no cell; lengths in mm, angles in deg")
     assert lines[1].startswith("region: x [-1000, 2000], y [-1000, 2000], z 0, yaw 0, tilt ≤ 0; free: x, y")
@@ -218,3 +218,31 @@ def test_no_such_task_and_an_unwritable_out(files):
     (files["dir"] / "plain_file").write_text("x")
     rc, _, err = run(["place", "planar_2r", str(files["task"]), "--out", str(files["dir"] / "plain_file")])
     assert rc == 2 and err.count("\n") == 1 and "not a directory" in err, err
+
+
+def test_current_placement_already_best_is_said(tmp_path):
+    """Eight targets at the 2R's most dexterous reach (0.8 m: σ_min of its Jacobian, by numpy over q2)
+    around the robot where it stands (no cell: the origin), scored by dexterity alone: no placement
+    scores higher, and the text and JSON say the current one is already the best found."""
+    q2 = np.linspace(1e-3, np.pi - 1e-3, 100_001)
+    J = np.stack([np.stack([-L2 * np.sin(q2), -L2 * np.sin(q2)], -1),
+                  np.stack([L1 + L2 * np.cos(q2), L2 * np.cos(q2)], -1)], -2)
+    q = q2[np.argmax(np.linalg.svd(J, compute_uv=False)[:, -1])]
+    r = math.sqrt(L1 ** 2 + L2 ** 2 + 2 * L1 * L2 * math.cos(q))
+    th = 2 * np.pi * np.arange(8) / 8
+    (tmp_path / "dex.csv").write_text("x,y,z\n" + "".join(f"{r * math.cos(t)!r},{r * math.sin(t)!r},0\n" for t in th))
+    task = tmp_path / "dex.toml"
+    task.write_text('name = "dex"\nrobot = "planar_2r"\nlength_unit = "m"\nangle_unit = "deg"\n[target]\n'
+                    'shape = "points"\nfile = "dex.csv"\ntolerance = 1e-6\n')
+    args = ["place", "planar_2r", str(task), "--region", "-0.4", "0.4", "-0.4", "0.4", "--yaw", "0", "0",
+            "--weights", "1", "0", "0", "--starts", "2", "--candidates", "8", "--grid", "5", "--de-iterations", "2"]
+    rc, out, err = run(args)
+    assert rc == 0, err
+    assert "the current placement is already the best found (coverage 100.0 %, mean score" in out
+    assert "answer (current): xyz 0 0 0 m" in out
+    assert next(ln for ln in out.splitlines() if ln.strip().startswith("current")).endswith("← answer")
+    rc, out, err = run(args + ["--json"])
+    d = json.loads(out)
+    assert d["current_is_best"] is True and d["method"] == "current"
+    assert d["placement"]["xyz"] == [0.0, 0.0, 0.0] and d["current"]["candidate"] is True
+    assert all(m["value"] <= d["methods"]["current"]["value"] for m in d["methods"].values())
