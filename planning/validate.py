@@ -34,6 +34,7 @@ from dataclasses import asdict, dataclass, field, fields
 
 import numpy as np
 
+from kin.display import joint_interval, joint_label, joint_value
 from kin.errors import ConfigurationError
 from planning.certify import PathProof, certify_path, certify_sigma
 from planning.certify.collision import CollisionProof, certify_collision
@@ -187,8 +188,9 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
     max_step_seen = float(steps.max()) if steps.size else 0.0
     if max_step is not None and steps.size and max_step_seen > max_step:
         i, j = np.unravel_index(np.argmax(steps > max_step), steps.shape)
-        note(Violation(int(i), "continuity", f"joint {j + 1} moves {steps[i, j]:.6g} between rows {i} and {i + 1}; "
-                                             f"allowed {max_step:.6g}"))
+        moved, allowed = joint_value(chain, j, steps[i, j]), joint_value(chain, j, max_step)
+        note(Violation(int(i), "continuity", f"{joint_label(chain, j)} moves {moved} between rows {i} and {i + 1}; "
+                                             f"allowed {allowed}"))
     if not dense and prove:
         counts = np.ones(max(len(P) - 1, 0), np.int64)      # the rows only: no state between them
     else:
@@ -215,8 +217,9 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
             if out.any():
                 k = int(np.argmax(out.any(axis=1)))
                 j = int(np.argmax(out[k]))
-                found["limits"] = Violation(int(seg[k]), "limits", f"joint {j + 1} = {Q[k, j]:.6g} outside "
-                                            f"[{chain.lower[j]:.6g}, {chain.upper[j]:.6g}] "
+                found["limits"] = Violation(int(seg[k]), "limits",
+                                            f"{joint_label(chain, j)} = {joint_value(chain, j, Q[k, j])} outside "
+                                            f"{joint_interval(chain, j, chain.lower[j], chain.upper[j])} "
                                             f"{_label(int(seg[k]), float(frac[k]))}")
         if "window" not in found and windows is not None and windows.windows:
             which = windows.which(Q)
@@ -235,7 +238,7 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
             if low.any():
                 k = int(np.argmax(low))
                 found["sigma_min"] = Violation(int(seg[k]), "sigma_min", f"σ_min = {sig[k]:.3g} < {sigma_min:.3g} "
-                                               f"{_label(int(seg[k]), float(frac[k]))}")
+                                               f"(SI) {_label(int(seg[k]), float(frac[k]))}")
     windows_check = None
     proof = certify_path(windows, P) if prove else None      # (no windows: proven at once)
     if windows is not None and windows.windows:
@@ -254,8 +257,8 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
             if sp.violation is not None:
                 k, f, _, s = sp.violation
                 if "sigma_min" not in found or k < found["sigma_min"].index:
-                    found["sigma_min"] = Violation(k, "sigma_min", f"σ_min = {s:.3g} < {sigma_min:.3g} {_label(k, f)} "
-                                                   "(proven)")
+                    found["sigma_min"] = Violation(k, "sigma_min", f"σ_min = {s:.3g} < {sigma_min:.3g} (SI) "
+                                                   f"{_label(k, f)} (proven)")
             sigma_check = "proven" if sp.proven or sp.violation is not None else "sampled"
     collision_check, cproof, bound = None, None, None
     if world is not None:

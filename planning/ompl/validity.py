@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from kin.display import joint_interval, joint_label, joint_value
 from kin.singular.evaluate import scalar_function
 from planning import motion as native_motion
 from planning.certify.collision import certify_collision
@@ -115,15 +116,20 @@ class JointSpaceChecker:
         return self.robot.sigma_min(np.asarray(q, dtype=float))
 
     def reason(self, q) -> str | None:
-        """Why a configuration is invalid (None when valid)."""
+        """Why a configuration (SI) is invalid, in words — joint values in the robot file's units with
+        the unit named, σ_min in SI (None when valid)."""
+        c = self.chain
         for i, v in enumerate(q):
             if v < self.lower[i] or v > self.upper[i]:
-                return f"joint {i + 1} = {v:.6g} is outside its limits [{self.lower[i]:.6g}, {self.upper[i]:.6g}]"
-        for j, ivs in self._intervals:
+                return (f"{joint_label(c, i)} = {joint_value(c, i, v)} is outside its limits "
+                        f"{joint_interval(c, i, self.lower[i], self.upper[i])}")
+        names = [w.name for w in self.windows.windows if w.is_interval] if self.windows is not None else []
+        for k, (j, ivs) in enumerate(self._intervals):
             v = q[j]
             for lo, hi in ivs:
                 if lo <= v <= hi:
-                    return f"joint {j + 1} = {v:.6g} is inside a singular window [{lo:.6g}, {hi:.6g}]"
+                    return (f"{joint_label(c, j)} = {joint_value(c, j, v)} is inside the singular window "
+                            f"'{names[k]}' {joint_interval(c, j, lo, hi)}")
         for k, (g, eps) in enumerate(self._predicates):
             if abs(g(q)) <= eps:
                 name = [w.name for w in self.windows.windows if not w.is_interval][k]
@@ -131,7 +137,7 @@ class JointSpaceChecker:
         if self.sigma_floor is not None:
             s = self.sigma(q)
             if s < self.sigma_floor:
-                return f"σ_min = {s:.3g} is below the floor {self.sigma_floor:.3g}"
+                return f"σ_min = {s:.3g} (SI) is below the floor {self.sigma_floor:.3g} (SI)"
         if self.boxes and self._in_box(np.asarray(q, dtype=float)[None]).any():
             return "inside a keep-out box"
         if self.world is not None and not self.world.state_clear(q):

@@ -215,3 +215,18 @@ def test_chunked_check_equals_the_dense_one(fanuc):
     assert one.checked_states == expected
     Q, seg, frac = densify(P, robot.chain.revolute_mask)
     assert one.min_sigma == pytest.approx(robot.sigma_min(Q).min(), rel=1e-12)
+
+
+def test_messages_in_the_robot_file_units():
+    """ur5e is written in degrees: a violation names the joint and gives its values in degrees with
+    the unit (the limit ±360°, the step allowed 30°); σ_min in SI, said so."""
+    robot = kin.load_robot("ur5e")
+    P = np.radians([[0, -90, 90, -90, -90, 0], [370, -90, 90, -90, -90, 0]])
+    v = check_path(robot, P, max_step=math.radians(30)).first_violation
+    assert v.kind == "continuity" and v.detail == "joint 1 (base) moves 370° between rows 0 and 1; allowed 30°"
+    v = check_path(robot, P).first_violation
+    assert v.kind == "limits"
+    assert re.match(r"joint 1 \(base\) = 360\.\d+° outside \[-360°, 360°\] between rows 0 and 1", v.detail), v.detail
+    Q = np.radians([[0, -90, 90, -90, -90, 0], [0, -90, 90, -90, 90, 0]])     # q5 through 0: the wrist singularity
+    v = check_path(robot, Q, sigma_min=1e-3).first_violation
+    assert v.kind == "sigma_min" and re.match(r"σ_min = \S+ < 0\.001 \(SI\) between rows 0 and 1", v.detail), v.detail

@@ -161,10 +161,13 @@ def _shoulder_singular_q() -> np.ndarray:
 
 
 @pytest.mark.parametrize("which, change, pattern", [
-    ("start", (4, 0.01), r"start configuration is invalid: joint 5 = 0\.01 is inside a singular window"),
-    ("goal", (2, ELBOW_ROOT), r"goal configuration is invalid: joint 3 = 1\.43\d* is inside a singular window"),
-    ("start", (0, 3.5), r"start configuration is invalid: joint 1 = 3\.5 is outside its limits \[-2\.97, 2\.97\]"),
-    ("goal", (5, -8.0), r"goal configuration is invalid: joint 6 = -8 is outside its limits"),
+    ("start", (4, 0.01), r"start configuration is invalid: joint 5 \(J5\) = 0\.01 rad is inside the singular window "
+                         r"'wrist[^']*' \[-0\.05 rad, 0\.05 rad\]"),
+    ("goal", (2, ELBOW_ROOT), r"goal configuration is invalid: joint 3 \(J3\) = 1\.43\d* rad is inside the singular "
+                              r"window 'elbow"),
+    ("start", (0, 3.5), r"start configuration is invalid: joint 1 \(J1\) = 3\.5 rad is outside its limits "
+                        r"\[-2\.97 rad, 2\.97 rad\]"),
+    ("goal", (5, -8.0), r"goal configuration is invalid: joint 6 \(J6\) = -8 rad is outside its limits"),
 ])
 def test_invalid_start_or_goal_names_the_joint(fanuc, which, change, pattern):
     robot, ws = fanuc
@@ -182,7 +185,7 @@ def test_start_in_the_shoulder_window_and_below_the_floor(fanuc):
     with pytest.raises(PlanningError, match=r"start configuration is invalid: inside the singular window 'shoulder"):
         plan(robot, q, EASY_B, ws, time_limit=0.5)
     s = sigma_numpy(robot.chain, EASY_A[None])[0]
-    with pytest.raises(PlanningError, match=rf"start configuration is invalid: σ_min = {s:.3g} is below the floor 10"):
+    with pytest.raises(PlanningError, match=rf"start configuration is invalid: σ_min = {s:.3g} \(SI\) is below the floor 10 \(SI\)"):
         plan(robot, EASY_A, EASY_B, ws, sigma_min=10.0, time_limit=0.5)
 
 
@@ -374,3 +377,16 @@ def test_prm_with_singularity_objective_returns(planner, fanuc):
     robot, ws = fanuc
     Q = dense(np.array(d["path"]))
     assert within_limits(robot.chain, Q) and fanuc_outside_windows(robot.chain, ws, Q[::20]).all()
+
+
+def test_invalid_start_in_degrees_names_the_joint_window_and_unit():
+    """ur5e (a robot file in degrees, 5° windows): the message speaks degrees, as the user wrote them."""
+    robot = kin.load_robot("ur5e")
+    ws = build_windows(robot, margin=math.radians(5))
+    with pytest.raises(PlanningError) as e:
+        plan(robot, np.radians([0, -90, 90, -90, 0, 0]), np.radians([0, -90, 90, -90, -90, 0]), ws, time_limit=0.2)
+    assert str(e.value) == ("start configuration is invalid: joint 5 (wrist2) = 0° is inside the singular window "
+                            "'wrist: sin(q5)' [-5°, 5°]")
+    with pytest.raises(PlanningError, match=r"goal configuration is invalid: joint 3 \(elbow\) = 361° is outside its "
+                                            r"limits \[-360°, 360°\]"):
+        plan(robot, np.radians([0, -90, 90, -90, -90, 0]), np.radians([0, -90, 361, -90, -90, 0]), ws, time_limit=0.2)
