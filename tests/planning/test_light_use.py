@@ -44,6 +44,7 @@ SCRIPT = textwrap.dedent('''
     cells = FreeCells(lower, upper, ws)
     sep = cells.separation(clear[0], np.array([0.1, 0.2, 0.3, 0.0, -0.5, 0.0]))
     out["separation"] = None if sep is None else [sep.kind, list(sep.joints)]
+    cells.separation(clear[0], clear[0])       # the slabs first: a query on one side of them builds the grid
     out["grids"] = [list(k) for k, v in cells._grids.items() if v is not None]
 
     import kin
