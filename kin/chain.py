@@ -140,6 +140,8 @@ class Chain:
     #: the σ_min floor (SI) the CLI's path checks apply by default; None: the rule of
     #: :func:`kin.singular.floor.default_sigma_floor` (docs/robot-files.md, "sigma_floor")
     sigma_floor: float | None = None
+    #: named configurations ("home"), SI, each inside the limits (:mod:`kin.states`; a robot file's [states])
+    states: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
 
     def __post_init__(self):
         if not self.joints:
@@ -207,6 +209,8 @@ class Chain:
             bad = [r for r in self.task if r not in TASK_ROWS]
             if bad or not self.task or len(set(self.task)) != len(self.task):
                 raise ChainError(f"task {self.task!r} invalid; rows must be distinct, from {', '.join(TASK_ROWS)}")
+        from kin.states import checked_states
+        object.__setattr__(self, "states", checked_states(self, self.states))
 
     # ---- sizes and limits ------------------------------------------------------------------
     @property

@@ -35,7 +35,7 @@ from kin.validation import Fields, type_name
 
 ROBOT_DIR = Path(__file__).parent / "robots"
 TOP_FIELDS = ("name", "title", "source", "convention", "length_unit", "angle_unit", "joints", "base",
-              "tool", "parameters", "task", "geometry", "payload", "gravity", "sigma_floor")
+              "tool", "parameters", "task", "geometry", "payload", "gravity", "sigma_floor", "states")
 REQUIRED_TOP = ("name", "convention", "length_unit", "angle_unit", "joints")
 JOINT_FIELDS = ("type", "a", "alpha", "d", "theta", "limits", "name", "max_velocity", "max_acceleration",
                 "max_torque", "inertial")
@@ -276,6 +276,9 @@ def loads_robot(text: str, path: str | None = None) -> Chain:
         raise r.fail(None, str(e)) from None
     if "geometry" in doc:
         chain = replace(chain, geometry=_geometry(r, doc["geometry"], chain, ls, as_))
+    if "states" in doc:
+        from kin.states import read_states
+        chain = replace(chain, states=read_states(r, doc["states"], chain))
     return chain
 
 
@@ -574,6 +577,8 @@ def dumps_robot(chain: Chain) -> str:
                 f"bounds = {_vec(p.bounds, s)}"]
     if chain.payload is not None:
         out += ["", "[payload]", *_inertial_lines(chain.payload, ls)]
+    from kin.states import state_lines
+    out += state_lines(chain, lambda x, s: _fmt(_to_file(x, s)))
     if chain.geometry is not None:
         out += _geometry_lines(chain, ls)
     return "\n".join(out) + "\n"

@@ -197,7 +197,16 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
                 more = " …" if len(unknown) > 8 else ""
                 warnings.warn(UrdfWarning(f"{srdf}: disable_collisions names link(s) with no collision geometry on the "
                                           f"chain, ignored: {', '.join(unknown[:8])}{more}"), stacklevel=3)
-    chain = Chain(name=name, joints=tuple(joints), convention="standard", geometry=geometry,
+    states: dict = {}
+    if srdf is not None:
+        from kin.urdf.srdf import chain_states
+        states, left_out = chain_states(srdf, sc.joints)
+        if states:
+            notes.append(f"named states from the SRDF {str(srdf).rsplit('/', 1)[-1]}'s group_state elements: "
+                         + ", ".join(states))
+        for note in left_out:
+            warnings.warn(UrdfWarning(f"{srdf}: {note}"), stacklevel=3)
+    chain = Chain(name=name, joints=tuple(joints), convention="standard", geometry=geometry, states=states,
                   title=f"{sc.robot_name or name}, {sc.base} to {sc.tip} (imported from URDF)", source="; ".join(notes),
                   base=_placement(base), tool=_placement(tool), payload=payload)
     chain = chain.to_modified() if convention == "modified" else chain

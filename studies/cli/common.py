@@ -85,7 +85,14 @@ def positions(chain, values: Sequence[str], what: str) -> np.ndarray:
 
 
 def joint_values(robot: kin.Robot, values: Sequence[str], what: str = "joint values") -> np.ndarray:
-    """A configuration given in the robot file's units → SI, checked for count and finiteness."""
+    """A configuration given in the robot file's units → SI, checked for count and finiteness; a single
+    word that is not a number names one of the robot's states (:mod:`kin.states`: ``home``)."""
+    from kin.states import UnknownStateError, is_number, state
+    if len(values) == 1 and not is_number(values[0]):
+        try:
+            return state(robot.chain, values[0])
+        except UnknownStateError as e:
+            raise CliInputError(f"{what}: {values[0]!r} is neither a number nor a named state: {e}") from None
     q = numbers(values, what)
     if len(q) != robot.n:
         units = ", ".join(c.angle_unit if j.is_revolute else c.length_unit

@@ -74,7 +74,8 @@ def cmd_show(args, load_robot) -> int:
                                           for b in p.bounds], "kind": p.kind}
                            for k, p in c.parameters.items()},
             "task_rows": [["x", "y", "z", "rx", "ry", "rz"][r] for r in robot.task_rows],
-            "dynamics": _dynamics_info(c)}
+            "dynamics": _dynamics_info(c),
+            "states": {k: c.from_si(v).tolist() for k, v in c.states.items()}}
     if args.json:
         print(dump(info))
         return EXIT_OK
@@ -92,6 +93,8 @@ def cmd_show(args, load_robot) -> int:
             print(f"{label}:\n{_fmt_matrix(pose_to_file(c, pl.matrix))}")
     for k, p in info["parameters"].items():
         print(f"parameter {k} = {p['value']:.6g} in [{p['bounds'][0]:.6g}, {p['bounds'][1]:.6g}] ({p['kind']})")
+    for k, v in info["states"].items():
+        print(f"state {k} = " + " ".join(f"{x:.6g}" for x in v))
     d = info["dynamics"]
     if any(j["mass_kg"] is not None or j["max_torque"] is not None for j in d["joints"]):
         print("dynamics (SI): link mass, joint torque limit (N·m, N for prismatic joints)")
@@ -185,7 +188,8 @@ def add_commands(add) -> None:
                              ("jacobian", cmd_jacobian, "geometric Jacobian and dexterity measures")):
         sp = add(name, func, text)
         sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
-        sp.add_argument("q", metavar="Q", nargs="+", help="joint values in the robot file's units")
+        sp.add_argument("q", metavar="Q", nargs="+", help="joint values in the robot file's units, or the name "
+                                                          "of one of its states (e.g. home; see rmt show)")
     sp = add("ik", cmd_ik, "inverse kinematics of a tool position (and orientation); exit 1 if unsolved")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
     sp.add_argument("--xyz", nargs=3, required=True, metavar=("X", "Y", "Z"), help="position, file length unit")

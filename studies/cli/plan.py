@@ -238,9 +238,10 @@ def _window_args(sp, seed_help: str) -> None:
 def add_commands(add) -> None:
     sp = add("plan", cmd_plan, "plan a joint path with OMPL that avoids the singular windows; exit 1 if none found")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
-    sp.add_argument("--start", nargs="+", required=True, metavar="Q", help="start configuration, file units")
+    sp.add_argument("--start", nargs="+", required=True, metavar="Q",
+                    help="start configuration, file units, or a named state (e.g. home)")
     goal = sp.add_mutually_exclusive_group(required=True)
-    goal.add_argument("--goal", nargs="+", metavar="Q", help="goal configuration, file units")
+    goal.add_argument("--goal", nargs="+", metavar="Q", help="goal configuration, file units, or a named state")
     goal.add_argument("--goal-pose", nargs=6, metavar=("X", "Y", "Z", "R", "P", "Y"),
                       help="goal tool pose, file units (fixed-axis roll-pitch-yaw): the IK branch on the start's "
                            "side of every window, nearest first")

@@ -58,7 +58,7 @@ def cmd_import_urdf(args, load_robot) -> int:
                     "tool_is_identity": chain.tool.is_identity, "capsules": 0 if g is None else len(g.capsules),
                     "over_estimate": None if g is None else g.over_estimate,
                     "geometry_source": None if g is None else g.source, "source": chain.source,
-                    "warnings": notes}))
+                    "states": {k: list(v) for k, v in chain.states.items()}, "warnings": notes}))
         return EXIT_OK
     types = "".join("R" if j.is_revolute else "P" for j in chain.joints)
     print(f"{args.file}: {chain.title}")
@@ -72,6 +72,9 @@ def cmd_import_urdf(args, load_robot) -> int:
             print(f"self-collision: {len(g.allowed)} body pair(s) the SRDF disables are not checked")
     elif not args.no_collision:
         print("collision geometry: none in the URDF; the robot gets the default capsules along its DH offsets")
+    if chain.states:
+        print(f"named states from the SRDF: {', '.join(chain.states)} (a configuration wherever one is taken: "
+              f"rmt fk {out} {next(iter(chain.states))})")
     return EXIT_OK
 
 
@@ -110,7 +113,8 @@ def add_commands(add) -> None:
                          "the directory of that name above the URDF file)")
     sp.add_argument("--srdf", metavar="FILE.srdf",
                     help="a MoveIt SRDF: body pairs all of whose links' pairs it disables are not checked for "
-                         "self-collision (the robot file's allow)")
+                         "self-collision (the robot file's allow); its group states that set every joint of the "
+                         "chain become named states (the robot file's [states], e.g. --start home)")
     sp.add_argument("--out", required=True, metavar="ROBOT.toml", help="robot file to write")
     sp = add("export-urdf", cmd_export_urdf, "write a robot as URDF with cylinder visuals and collision capsules")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or robot file")
