@@ -51,6 +51,25 @@ def _per_joint(robot, raw, what: str, unit_power: int, default_attr: str | None)
     return arr if unit_power == 0 else c.to_si(arr)
 
 
+def limits_or_defaults(robot, v_raw, a_raw) -> tuple[np.ndarray, np.ndarray]:
+    """``--v-max`` and ``--a-max`` (robot file units) → SI, each defaulting to the robot file's
+    ``max_velocity``/``max_acceleration``; one line naming the option (and its unit) when neither is there."""
+    units = sorted(set(f"{u}/s" for u in joint_units(robot.chain)))
+    out = []
+    for raw, name, attr, word, power in ((v_raw, "--v-max", "max_velocity", "speeds", ""),
+                                         (a_raw, "--a-max", "max_acceleration", "accelerations", "²")):
+        v = _per_joint(robot, raw, name, 1, attr)
+        if v is None:
+            missing = [robot.chain.joint_names()[j] for j, jt in enumerate(robot.chain.joints)
+                       if getattr(jt, attr) is None]
+            which = "" if len(missing) == robot.n else f" for joint(s) {', '.join(missing)}"
+            raise CliInputError(f"{robot.name} has no published {word}{which} (its robot file gives no {attr}): "
+                                f"give {name} {name[2].upper()} ({', '.join(u + power for u in units)}; one value "
+                                f"for every joint or one per joint)")
+        out.append(v)
+    return out[0], out[1]
+
+
 def _csv(robot, tr) -> str:
     """The sampled trajectory: t, q, q̇, q̈ (robot file units), τ (N·m, N) when known."""
     c = robot.chain
@@ -79,12 +98,7 @@ def cmd_time(args, load_robot) -> int:
     robot = load_robot(args.robot)
     c = robot.chain
     P = read_path_csv(robot, args.path)
-    vmax = _per_joint(robot, args.v_max, "--v-max", 1, "max_velocity")
-    amax = _per_joint(robot, args.a_max, "--a-max", 1, "max_acceleration")
-    for name, v in (("--v-max", vmax), ("--a-max", amax)):
-        if v is None:
-            raise CliInputError(f"{name} is needed: {robot.name}'s joints do not all carry "
-                                f"{'max_velocity' if name == '--v-max' else 'max_acceleration'}")
+    vmax, amax = limits_or_defaults(robot, args.v_max, args.a_max)
     jmax = _per_joint(robot, args.j_max, "--j-max", 1, None)
     taumax = _per_joint(robot, args.tau_max, "--tau-max", 0, None)
     use_robot = taumax is not None or has_inertia(c)
@@ -121,12 +135,15 @@ def cmd_time(args, load_robot) -> int:
            "path_max_deviation": tr.path.max_deviation, "shape": args.shape,
            "joints_leaving_limits": [names[j] for j in outside],
            "v_max": c.from_si(tr.v_max).tolist(), "a_max": c.from_si(tr.a_max).tolist(),
+           "limits_from": {"v_max": "--v-max" if args.v_max else "robot file",
+                           "a_max": "--a-max" if args.a_max else "robot file"},
            "units": {"v_max": "robot file units/s", "a_max": "robot file units/s²", "torque": "N·m or N",
                      "path_max_deviation": "SI (rad/m joint-space)"}}
     if args.json:
         print(dump(out))
         return EXIT_FAIL if outside else 0
     print(f"duration {tr.duration:.6g} s ({len(tr.t)} samples, {out['grid_intervals']} grid intervals; {tr.qp_status})")
+    print(f"limits: speeds from {out['limits_from']['v_max']}, accelerations from {out['limits_from']['a_max']}")
     hdr = f"  {'joint':>10} {'|q̇|/v':>8} {'|q̈|/a':>8}"
     if peak_tau is not None:
         hdr += f" {'|τ| peak':>10} {'τ_max':>8} {'|τ|/τ_max':>9}"

@@ -62,7 +62,6 @@ def test_panda_end_to_end(tmp_path, capsys):
     (["--a-max", "10", "--blend", "-1"], "--blend"),
     (["--a-max", "10", "--tau-max", "5"], "cannot hold the path at rest"),
     (["--a-max", "10", "--tau-max", "0"], "must be > 0"),
-    ([], "--a-max is needed"),
 ])
 def test_hostile_inputs_are_one_line(tmp_path, capsys, extra, what):
     rc = main(["time", "franka_panda", str(_path_file(tmp_path)), *extra])
@@ -122,3 +121,24 @@ def test_the_cli_offers_exactly_the_shapes_of_the_timing():
     import studies.cli.timing as cli
     assert cli.SHAPES == timing.SHAPES
 
+
+
+def test_published_accelerations_are_the_default_and_missing_ones_name_the_option(tmp_path, capsys):
+    """The Panda's file carries Franka's ddq_max: without --a-max the timing is the one with those values
+    typed out; the UR5e's maker publishes none: one line naming --a-max and its unit."""
+    path = _path_file(tmp_path)
+    assert main(["time", "franka_panda", str(path), "--json"]) == 0
+    default = json.loads(capsys.readouterr().out)
+    assert main(["time", "franka_panda", str(path), "--a-max", *A_MAX, "--json"]) == 0
+    typed = json.loads(capsys.readouterr().out)
+    assert default["duration_s"] == typed["duration_s"] and default["a_max"] == [float(a) for a in A_MAX]
+    assert default["limits_from"] == {"v_max": "robot file", "a_max": "robot file"}
+    assert typed["limits_from"]["a_max"] == "--a-max"
+    ur = tmp_path / "ur.csv"
+    ur.write_text("0,0,0,0,0,0\n10,20,30,40,50,60\n")
+    assert main(["time", "ur5e", str(ur)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1
+    assert "ur5e has no published accelerations" in err and "give --a-max A (deg/s²" in err
+    assert main(["time", "ur3_homework", str(ur), "--a-max", "1"]) == 2
+    assert "give --v-max V (rad/s" in capsys.readouterr().err
