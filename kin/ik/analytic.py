@@ -29,7 +29,7 @@ FK (the compiled evaluator) and is kept only when its position and orientation e
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -38,7 +38,8 @@ from kin.errors import RmtError
 from kin.ik.numeric import _targets
 from kin.transforms import make_transform, rot_x, rot_z, rotation_error
 
-__all__ = ["NoClosedFormError", "PieperArm", "analytic_ik", "closed_form", "pieper_arm"]
+__all__ = ["NoClosedFormError", "PieperArm", "analytic_branches", "analytic_ik", "closed_form", "pieper_arm",
+           "turn_copies"]
 
 _EPS = 1e-12
 
@@ -238,6 +239,12 @@ def _into_limits(q: np.ndarray, lo: np.ndarray, hi: np.ndarray, ref: np.ndarray,
     return out
 
 
+def turn_copies(q: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """Every whole-turn copy of configuration ``q`` (revolute angles, SI) within [lower, upper]:
+    (k, n), k = 0 when some joint has no copy inside its limits."""
+    return np.array(_into_limits(np.asarray(q, dtype=float), lower, upper, q, True)).reshape(-1, len(q))
+
+
 def _errors(robot, Q, T, P) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     res = robot.evaluator.evaluate(Q, P, 3)                 # WANT_T | WANT_J
     Tq, J = res["T"], res["J"]
@@ -300,6 +307,28 @@ def analytic_ik(robot, T, params=None, q_ref=None, all_turns: bool = False, tol:
             Q = _dedup([c for q in Q for c in _into_limits(q, arm.lower, arm.upper, ref, True)], ref)
         results.append(Q)
     return results[0] if single else results
+
+
+def analytic_branches(robot, T, params=None, q_ref=None, tol: float = 1e-9) -> np.ndarray:
+    """Every IK branch of one pose T (4, 4; base frame, SI) whatever the joint limits: (k, 6), each
+    branch once, as the whole-turn copy nearest ``q_ref`` (default 0), verified by FK to ``tol``,
+    sorted by distance to ``q_ref``.  An empty result means out of reach.  Raises
+    :class:`NoClosedFormError` as :func:`analytic_ik`."""
+    from kin.ik.parallel import ParallelArm, parallel_candidates
+    chain = robot.chain
+    arm = closed_form(chain, None if params is None else chain.parameter_vector(params))
+    Pt, Rt, single = _targets(T, f"for {chain.name}")
+    if Rt is None or not single:
+        raise NoClosedFormError("analytic branches need one pose target (4, 4)")
+    P = chain.parameter_values if params is None else chain.parameter_vector(params)
+    ref = np.zeros(6) if q_ref is None else chain.as_batch(q_ref, "q_ref")[0][0]
+    Tt = np.eye(4)
+    Tt[:3, :3], Tt[:3, 3] = Rt[0], Pt[0]
+    W = Tt @ arm.tool_inv
+    thetas = parallel_candidates(arm, W, ref + arm.offset) if isinstance(arm, ParallelArm) else _arm_candidates(arm, W)
+    cands = [ref + np.mod(th - arm.offset - ref + math.pi, 2 * math.pi) - math.pi for th in thetas]
+    unlimited = replace(arm, lower=np.full(6, -np.inf), upper=np.full(6, np.inf))   # the polish clips nothing
+    return _verified(robot, cands, Tt, P, unlimited, tol, ref)
 
 
 def _dedup(Q, ref) -> np.ndarray:

@@ -39,7 +39,7 @@ from kin.errors import ConfigurationError
 from planning.certify import PathProof, Separation, free_cells
 from planning.errors import PlanningError
 from planning.ompl.bindings import ob, og, quiet_rng_seed
-from planning.ompl.goals import goal_from_pose
+from planning.ompl.goals import GoalPoseError, goal_from_pose
 from planning.ompl.validity import JointSpaceChecker, KeepOutBox
 from planning.validate import (
     DEFAULT_STEP_ANGLE,
@@ -101,7 +101,7 @@ class PlanResult:
     attempts: list[str] = field(default_factory=list)
     proof: PathProof | None = None           # windows proven clear segment by segment (None: no path)
     separation: Separation | None = None     # why no joint path exists (decided before planning)
-    goal_branch: dict | None = None          # for a pose goal: the branch chosen among the candidates
+    goal_branch: dict | None = None          # for a pose goal: the branch chosen among the candidates, or why none
 
     @property
     def proven(self) -> bool:
@@ -214,7 +214,8 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
          time_limit: float = 2.0, seed: int = 0, sigma_min: float | None = None,
          boxes: Sequence[KeepOutBox] = (), objective: str = "none", simplify: bool = True,
          check_step_angle: float = DEFAULT_STEP_ANGLE, check_step_length: float = DEFAULT_STEP_LENGTH,
-         motion_step: float | None = None, world=None, planner_range: float | None = None) -> PlanResult:
+         motion_step: float | None = None, world=None, planner_range: float | None = None,
+         goal_frame: str = "base") -> PlanResult:
     """Plan a joint path from ``start`` to ``goal`` (configurations, SI) — or to ``goal_pose`` (4×4) —
     that stays inside the limits, outside every window of ``windows`` (a WindowSet), above the
     σ_min floor and out of the keep-out boxes.
@@ -228,7 +229,11 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
     self-collisions the path must be proven clear of — every motion the planner keeps is proven
     (:func:`planning.certify.collision.certify_collision`) and the returned path is proven again;
     ``planner_range``: the longest edge of a tree planner (joint-space distance; default
-    :func:`default_range`, from the robot's geometry).
+    :func:`default_range`, from the robot's geometry); ``goal_frame``: the frame of ``goal_pose``,
+    ``"base"`` (the robot's base frame) or ``"cell"`` (the frame of ``world``'s cell, where it places
+    the robot).  The goal of a pose is chosen by :func:`planning.ompl.goals.goal_from_pose` (every IK
+    branch and its whole-turn copies; the valid one in the start's free cell nearest the start), or
+    :class:`planning.ompl.goals.GoalPoseError` says why none is valid.
     """
     t0 = time.perf_counter()
     if objective not in OBJECTIVES:
@@ -252,7 +257,19 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
         pose = np.asarray(goal_pose, dtype=float)
         if pose.shape != (4, 4) or not np.isfinite(pose).all():
             raise ConfigurationError(f"goal pose has shape {pose.shape}; expected a finite 4×4 transform")
-        goal_q, goal_branch = goal_from_pose(robot, pose, start_q, checker, cells, seed)
+        if goal_frame not in ("base", "cell"):
+            raise PlanningError(f"goal frame {goal_frame!r} unknown; allowed: base, cell")
+        frame = "base frame"
+        if goal_frame == "cell":
+            if world is None:
+                raise PlanningError("a goal pose in the cell frame needs a world (the cell that places the robot)")
+            pose = np.linalg.inv(world.base) @ pose
+            frame = f"cell frame{f' of {world.name!r}' if world.name else ''}"
+        try:
+            goal_q, goal_branch = goal_from_pose(robot, pose, start_q, checker, cells, seed, frame=frame)
+        except GoalPoseError as e:           # no valid configuration reaches the pose: a negative answer
+            return PlanResult(False, np.zeros((0, chain.n)), cls.__name__, time.perf_counter() - t0, math.nan,
+                              math.nan, None, str(e), False, None, [str(e)], goal_branch=e.info)
     else:
         goal_q, _ = chain.as_batch(goal, "goal")
         goal_q = goal_q[0]
@@ -260,6 +277,8 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
     sep = cells.separation(start_q, goal_q)
     if sep is not None:
         status = f"no joint path exists: {sep.reason}"
+        if goal_branch is not None and goal_branch.get("start_cell_reason"):
+            status += f" (the goal pose's valid configurations all lie across it; {goal_branch['start_cell_reason']})"
         return PlanResult(False, np.zeros((0, chain.n)), cls.__name__, time.perf_counter() - t0, math.nan, math.nan,
                           None, status, False, goal_q, [status], separation=sep, goal_branch=goal_branch)
 

@@ -12,7 +12,6 @@ import numpy as np
 
 import kin
 from kin.output import write_output
-from kin.transforms import make_transform, rpy_to_matrix
 from studies.cli.common import (
     MAX_SIGMA,
     MAX_TIME_LIMIT,
@@ -20,7 +19,6 @@ from studies.cli.common import (
     bounded,
     cell_args,
     joint_values,
-    numbers,
     output_file,
     positions,
     sampled_windows_note,
@@ -29,6 +27,8 @@ from studies.cli.common import (
     windows_from_args,
     world_from_args,
 )
+from studies.cli.frames import frame_arg, pose_frame, pose_from_args
+from studies.cli.goal_text import goal_lines
 from studies.jointpath import path_csv_text
 from studies.jsonio import dump, finite_or_none
 from studies.taskrows import require_task_rows
@@ -89,12 +89,8 @@ def cmd_plan(args, load_robot) -> int:
     if args.goal is not None:
         goal = joint_values(robot, args.goal, "--goal")
     else:
-        xyz = positions(c, args.goal_pose[:3], "--goal-pose")
-        rpy = np.array(numbers(args.goal_pose[3:], "--goal-pose")) * c.angle_scale
-        if not np.all(np.abs(rpy) <= 2 * math.pi + 1e-9):
-            raise CliInputError(f"--goal-pose: R P Y must be within ±{2 * math.pi / c.angle_scale:g} {c.angle_unit} "
-                                "(the robot file's angle unit)")
-        goal_pose = make_transform(rpy_to_matrix(rpy), xyz)
+        goal_pose = pose_from_args(c, args.goal_pose[:3], args.goal_pose[3:], "--goal-pose")
+    frame = pose_frame(args, "--goal-pose")
     boxes = _keep_out(c, args)
     world = world_from_args(robot, args, keep_out=boxes)
     ws = windows_from_args(robot, args.margin, args.sigma_min)
@@ -102,7 +98,8 @@ def cmd_plan(args, load_robot) -> int:
         note = sampled_windows_note(ws, "add --sigma-floor S to plan with σ_min ≥ S proven along the path")
         if note:
             print(note, file=sys.stderr)
-    res = plan(robot, start, goal, ws, goal_pose=goal_pose, planner=args.planner, time_limit=args.time_limit,
+    res = plan(robot, start, goal, ws, goal_pose=goal_pose, goal_frame=frame, planner=args.planner,
+               time_limit=args.time_limit,
                seed=args.seed, objective=args.objective, world=world, sigma_min=args.sigma_floor)
     if goal is None:
         goal = res.goal if res.goal is not None else start
@@ -131,12 +128,15 @@ def cmd_plan(args, load_robot) -> int:
            "goal": None if res.goal is None else c.from_si(res.goal).tolist(),
            "goal_branch": None if res.goal_branch is None else
            {k: v for k, v in res.goal_branch.items() if k != "q"},
+           "goal_frame": None if goal_pose is None else frame,
            "keep_out_boxes": len(boxes),
            "units": {"path": "robot file units", "length": "joint-space length, SI (rad/m)", "min_sigma": "SI",
                      "min_clearance": "m"}}
     if args.json:
         print(dump(out))
     else:
+        if res.goal_branch is not None:
+            print(goal_lines(c, res))
         if res.success:
             print(f"path found by {res.planner} in {res.time_s:.3f} s: {len(res.path)} waypoints, joint-space "
                   f"length {res.length:.4g} (straight line {np.linalg.norm(goal - start):.4g}"
@@ -144,10 +144,6 @@ def cmd_plan(args, load_robot) -> int:
             print("  " + " ".join(f"{f'q{i + 1} [{u}]':>10}" for i, u in enumerate(joint_units(c))))
             for row in path_file:
                 print("  " + " ".join(f"{x:10.5g}" for x in row))
-            if res.goal_branch is not None:
-                b = res.goal_branch
-                print(f"goal pose: {b['candidates']} valid IK branch(es), {b['in_start_cell']} on the start's side of "
-                      f"every window; the nearest such one chosen")
             print("windows proven clear along every segment" if res.proof is not None and res.proof.proven
                   else "windows checked by samples on some segments (the proof could not settle them)")
             if args.sigma_floor is not None:
@@ -157,7 +153,7 @@ def cmd_plan(args, load_robot) -> int:
                       f"{dense.min_clearance * 1e3:.4g} mm (proven ≥ {(dense.clearance_bound or 0.0) * 1e3:.4g} mm)")
             if args.out:
                 print(f"wrote {args.out}")
-        elif res.separation is not None:
+        elif res.separation is not None or res.goal is None:
             print(res.status)
         else:
             print(f"no path found by {res.planner} within {args.time_limit:g} s ({res.status})")
@@ -243,8 +239,10 @@ def add_commands(add) -> None:
     goal = sp.add_mutually_exclusive_group(required=True)
     goal.add_argument("--goal", nargs="+", metavar="Q", help="goal configuration, file units, or a named state")
     goal.add_argument("--goal-pose", nargs=6, metavar=("X", "Y", "Z", "R", "P", "Y"),
-                      help="goal tool pose, file units (fixed-axis roll-pitch-yaw): the IK branch on the start's "
-                           "side of every window, nearest first")
+                      help="goal tool pose, file units (fixed-axis roll-pitch-yaw), in the cell frame with --cell "
+                           "(see --frame): every IK branch and its whole-turn copies are candidates; the valid one "
+                           "on the start's side of every window nearest the start is the goal")
+    frame_arg(sp)
     sp.add_argument("--keep-out", metavar="FILE.toml",
                     help="keep-out boxes of the work cell (TOML, see docs/cli.md, 'Keep-out files')")
     sp.add_argument("--keep-out-box", nargs=6, action="append", metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"),
