@@ -280,9 +280,9 @@ def _detail(kind, i, ip, robot, Q, pe, oe, limit_margin, margins, sig, sigma_min
     if kind == "window":
         w = windows.windows[int(win[i])]
         at = f"q{w.joint + 1} = {jv(w.joint, Q[i, w.joint])}, " if w.is_interval else ""
-        return f"inside singular window '{w.name}' ({at}σ_min = {sig[i]:.3g})"
+        return f"inside singular window '{w.name}' ({at}σ_min = {sig[i]:.3g} SI)"
     if kind == "sigma_min":
-        return f"σ_min = {sig[i]:.3g} < {sigma_min:.3g}: too close to a singularity"
+        return f"σ_min = {sig[i]:.3g} < {sigma_min:.3g} (SI): too close to a singularity"
     if kind == "speed":
         with np.errstate(invalid="ignore"):
             r = np.where(np.isnan(vmax), -np.inf, np.abs(qd[i]) / np.where(np.isnan(vmax), 1.0, vmax))

@@ -107,10 +107,25 @@ def window_width_args(sp, required: bool = False,
     parser; returns their mutually exclusive group (a command may add another width source to it)."""
     g = sp.add_mutually_exclusive_group(required=required)
     g.add_argument("--margin", type=bounded(0, math.inf, "(robot file units)"), metavar="X",
-                   help="singular windows of this half-width, file units "
-                        "(angle for factors with a revolute joint, length otherwise)")
+                   help="singular windows of this half-width in the robot file's units: its angle unit for "
+                        "factors with a revolute joint (5 on a robot in deg is ±5°), its length unit otherwise")
     g.add_argument("--sigma-min", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S", help=sigma_help)
     return g
+
+
+def windows_label(chain, margin: float | None, sigma_min: float | None) -> str | None:
+    """The windows of ``--margin``/``--sigma-min`` in words, the margin in the robot file's unit with
+    the option echoed: "windows of ±5° (--margin 5, robot file unit deg)"; None without windows."""
+    if margin is not None:
+        kinds = {j.is_revolute for j in chain.joints}
+        units = [u for rev, u in ((True, chain.angle_unit), (False, chain.length_unit)) if rev in kinds]
+        widths = " or ".join(f"±{margin:g}°" if u == "deg" else f"±{margin:g} {u}" for u in units)
+        which = (f"unit {units[0]}" if len(units) == 1
+                 else f"units {chain.angle_unit} for angles, {chain.length_unit} for lengths")
+        return f"windows of {widths} (--margin {margin:g}, robot file {which})"
+    if sigma_min is not None:
+        return f"windows where σ_min < {sigma_min:g} (SI) (--sigma-min {sigma_min:g})"
+    return None
 
 
 def windows_from_args(robot: kin.Robot, margin: float | None, sigma_min: float | None,

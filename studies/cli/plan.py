@@ -13,7 +13,6 @@ import numpy as np
 import kin
 from kin.output import write_output
 from studies.cli.common import (
-    MAX_SIGMA,
     MAX_TIME_LIMIT,
     CliInputError,
     bounded,
@@ -25,8 +24,10 @@ from studies.cli.common import (
     seed,
     window_width_args,
     windows_from_args,
+    windows_label,
     world_from_args,
 )
+from studies.cli.floor import floor_from_args, require_above_floor, sigma_floor_args
 from studies.cli.frames import frame_arg, pose_frame, pose_from_args
 from studies.cli.goal_text import goal_lines
 from studies.jointpath import path_csv_text
@@ -94,13 +95,18 @@ def cmd_plan(args, load_robot) -> int:
     boxes = _keep_out(c, args)
     world = world_from_args(robot, args, keep_out=boxes)
     ws = windows_from_args(robot, args.margin, args.sigma_min)
-    if args.sigma_floor is None:
-        note = sampled_windows_note(ws, "add --sigma-floor S to plan with σ_min ≥ S proven along the path")
+    floor = floor_from_args(robot, args)
+    require_above_floor(robot, floor, start, "--start")
+    if goal is not None:
+        require_above_floor(robot, floor, goal, "--goal")
+    if floor.active is None:
+        note = sampled_windows_note(ws, "drop --no-singularity-check (or give --sigma-floor S) to plan with "
+                                        "σ_min ≥ S proven along the path")
         if note:
             print(note, file=sys.stderr)
     res = plan(robot, start, goal, ws, goal_pose=goal_pose, goal_frame=frame, planner=args.planner,
                time_limit=args.time_limit,
-               seed=args.seed, objective=args.objective, world=world, sigma_min=args.sigma_floor)
+               seed=args.seed, objective=args.objective, world=world, sigma_min=floor.active)
     if goal is None:
         goal = res.goal if res.goal is not None else start
     dense = res.check
@@ -108,7 +114,7 @@ def cmd_plan(args, load_robot) -> int:
         # plan() returns its path checked by the proofs alone; the command reports what check-path reports:
         # the smallest σ_min and clearance of the dense states and the proof's lower bound along the path
         from planning.validate import check_path
-        dense = check_path(robot, res.path, ws, args.sigma_floor, world=world)
+        dense = check_path(robot, res.path, ws, floor.active, world=world)
     path_file = robot.chain.from_si(res.path) if res.success else np.zeros((0, robot.n))
     if args.out and res.success:
         write_path_csv(robot, res.path, args.out)
@@ -130,6 +136,7 @@ def cmd_plan(args, load_robot) -> int:
            {k: v for k, v in res.goal_branch.items() if k != "q"},
            "goal_frame": None if goal_pose is None else frame,
            "keep_out_boxes": len(boxes),
+           "sigma_floor": floor.to_dict(), "margin": args.margin,
            "units": {"path": "robot file units", "length": "joint-space length, SI (rad/m)", "min_sigma": "SI",
                      "min_clearance": "m"}}
     if args.json:
@@ -140,14 +147,20 @@ def cmd_plan(args, load_robot) -> int:
         if res.success:
             print(f"path found by {res.planner} in {res.time_s:.3f} s: {len(res.path)} waypoints, joint-space "
                   f"length {res.length:.4g} (straight line {np.linalg.norm(goal - start):.4g}"
-                  f"{', blocked' if not res.straight_line_valid else ''}), min σ_min {dense.min_sigma:.3g}")
+                  f"{', blocked' if not res.straight_line_valid else ''}), min σ_min {dense.min_sigma:.3g} (SI)")
             print("  " + " ".join(f"{f'q{i + 1} [{u}]':>10}" for i, u in enumerate(joint_units(c))))
             for row in path_file:
                 print("  " + " ".join(f"{x:10.5g}" for x in row))
-            print("windows proven clear along every segment" if res.proof is not None and res.proof.proven
-                  else "windows checked by samples on some segments (the proof could not settle them)")
-            if args.sigma_floor is not None:
-                print(f"σ_min ≥ {args.sigma_floor:g} {res.check.sigma_check} along every segment")
+            label = windows_label(c, args.margin, args.sigma_min)
+            if label is None:
+                print("no singular windows (--margin X or --sigma-min S gives them)")
+            else:
+                print(f"{label} proven clear along every segment" if res.proof is not None and res.proof.proven
+                      else f"{label} checked by samples on some segments (the proof could not settle them)")
+            if floor.active is not None:
+                print(f"σ_min ≥ {floor.value:g} (SI) {res.check.sigma_check} along every segment ({floor.text})")
+            else:
+                print(f"σ_min floor: {floor.text}")
             if world is not None:
                 print(f"collisions with the cell and the robot itself: {res.check.collision_check}; min clearance "
                       f"{dense.min_clearance * 1e3:.4g} mm (proven ≥ {(dense.clearance_bound or 0.0) * 1e3:.4g} mm)")
@@ -156,7 +169,8 @@ def cmd_plan(args, load_robot) -> int:
         elif res.separation is not None or res.goal is None:
             print(res.status)
         else:
-            print(f"no path found by {res.planner} within {args.time_limit:g} s ({res.status})")
+            print(f"no path found by {res.planner} within {args.time_limit:g} s ({res.status}); σ_min floor: "
+                  f"{floor.text}")
     return 0 if res.success else 1
 
 
@@ -195,12 +209,14 @@ def cmd_check_path(args, load_robot) -> int:
         if used and not lo <= step <= hi:
             raise CliInputError(f"--step {args.step:g} is outside the allowed range [{lo / scale:.3g}, "
                                 f"{hi / scale:.3g}] {unit} for the {kind} joints of {c.name}")
-    if args.sigma_floor is None:
-        note = sampled_windows_note(ws, "add --sigma-floor S to prove σ_min ≥ S along the path")
+    floor = floor_from_args(robot, args)
+    if floor.active is None:
+        note = sampled_windows_note(ws, "drop --no-singularity-check (or give --sigma-floor S) to prove σ_min ≥ S "
+                                        "along the path")
         if note:
             print(note, file=sys.stderr)
     world = world_from_args(robot, args)
-    chk = check_path(robot, P, ws, sigma_min=args.sigma_floor, step_angle=step_angle, step_length=step_length,
+    chk = check_path(robot, P, ws, sigma_min=floor.active, step_angle=step_angle, step_length=step_length,
                      world=world)
     fv = chk.first_violation
     out = {"valid": chk.valid,
@@ -210,19 +226,24 @@ def cmd_check_path(args, load_robot) -> int:
            "windows_check": chk.windows_check, "sigma_check": chk.sigma_check,
            "collision_check": chk.collision_check, "min_clearance": finite_or_none(chk.min_clearance),
            "min_clearance_index": chk.min_clearance_index if world is not None else None,
-           "clearance_bound": finite_or_none(chk.clearance_bound), "units": {"min_clearance": "m"}}
+           "clearance_bound": finite_or_none(chk.clearance_bound), "sigma_floor": floor.to_dict(),
+           "margin": args.margin, "units": {"min_clearance": "m", "min_sigma": "SI", "margin": "robot file units"}}
     if args.json:
         print(dump(out))
     elif chk.valid:
-        how = "" if chk.windows_check is None else f"; windows {chk.windows_check}"
+        label = windows_label(c, args.margin, args.sigma_min)
+        how = "" if chk.windows_check is None else f"; {label} {chk.windows_check}"
+        how += f"; σ_min floor: {floor.text}" if floor.active is None else \
+            f"; σ_min ≥ {floor.value:g} (SI) {chk.sigma_check}"
         if world is not None:
             how += (f"; collisions {chk.collision_check}, min clearance {chk.min_clearance * 1e3:.4g} mm "
                     f"(row {chk.min_clearance_index})")
-        print(f"valid: {len(P)} rows, {chk.checked_states} states checked{how}; min σ_min {chk.min_sigma:.3g} "
+        print(f"valid: {len(P)} rows, {chk.checked_states} states checked{how}; min σ_min {chk.min_sigma:.3g} (SI) "
               f"(row {chk.min_sigma_index})")
     else:
         print(f"INVALID at row {fv.index}: {fv.kind} — {fv.detail}")
-        print(f"{len(P)} rows, {chk.checked_states} states checked; min σ_min {chk.min_sigma:.3g}")
+        print(f"{len(P)} rows, {chk.checked_states} states checked; min σ_min {chk.min_sigma:.3g} (SI); σ_min floor: "
+              f"{floor.text}")
     return 0 if chk.valid else 1
 
 
@@ -254,15 +275,13 @@ def add_commands(add) -> None:
                     metavar="S", help=f"planning time limit, s (default 2, at most {MAX_TIME_LIMIT:g})")
     sp.add_argument("--objective", default="none", choices=("none", "length", "singularity"),
                     help="optimisation objective for optimising planners (default none)")
-    sp.add_argument("--sigma-floor", type=bounded(0, MAX_SIGMA, "(SI)"), metavar="S",
-                    help="keep σ_min ≥ S (SI) along the path, proven segment by segment")
+    sigma_floor_args(sp, "keep σ_min ≥ S (SI) along the path, proven segment by segment")
     sp.add_argument("--out", metavar="PATH.csv", help="write the path as CSV (robot file units)")
     sp = add("check-path", cmd_check_path, "check a joint path (CSV) densely; exit 0 valid, 1 invalid")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
     sp.add_argument("path", metavar="PATH.csv", help="one configuration per row, robot file units")
     _window_args(sp, "accepted for symmetry with plan and ignored: the check uses no random numbers")
     cell_args(sp)
-    sp.add_argument("--sigma-floor", type=bounded(0, MAX_SIGMA, "(SI)"), metavar="S",
-                    help="fail where σ_min (SI) drops below S")
+    sigma_floor_args(sp, "fail where σ_min (SI) drops below S")
     sp.add_argument("--step", type=bounded(0, math.inf, "(robot file units)", open_low=True), metavar="D",
                     help="largest joint change between checked states, file units (default 0.1° / 0.1 mm)")

@@ -12,7 +12,6 @@ import numpy as np
 
 import kin
 from studies.cli.common import (
-    MAX_SIGMA,
     bounded,
     cell_args,
     numbers,
@@ -20,8 +19,10 @@ from studies.cli.common import (
     seed,
     window_width_args,
     windows_from_args,
+    windows_label,
     world_from_args,
 )
+from studies.cli.floor import FloorChoice, floor_from_args, sigma_floor_args
 from studies.taskrows import require_task_rows
 from studies.toolpaths import bundled_toolpaths, toolpath_file
 from studies.units import joint_units
@@ -60,8 +61,9 @@ def _per_joint(robot: kin.Robot, values, what: str) -> np.ndarray | None:
     return arr * robot.chain.variable_scale
 
 
-def report_text(report, robot: kin.Robot) -> str:
-    """The verdict line, then a short table (robot file units)."""
+def report_text(report, robot: kin.Robot, floor: FloorChoice | None = None, windows: str | None = None) -> str:
+    """The verdict line, then a short table (robot file units; σ_min SI); ``floor``: the σ_min floor
+    applied, ``windows``: the windows in words (:func:`windows_label`)."""
     c = robot.chain
     L, Lu, A, Au = c.length_scale, c.length_unit, c.angle_scale, c.angle_unit
     var = c.variable_scale
@@ -77,9 +79,13 @@ def report_text(report, robot: kin.Robot) -> str:
             err += f", orientation {d['max_orientation_error'] / A:.3g} {Au}"
         rows.append(("max IK error", err))
     if d["min_sigma"] is not None:
-        rows.append(("min σ_min", f"{d['min_sigma']:.4g} at waypoint {d['min_sigma_index']}"))
+        rows.append(("min σ_min", f"{d['min_sigma']:.4g} (SI) at waypoint {d['min_sigma_index']}"))
         rows.append(("min manipulability",
-                     f"{d['min_manipulability']:.4g} at waypoint {d['min_manipulability_index']}"))
+                     f"{d['min_manipulability']:.4g} (SI) at waypoint {d['min_manipulability_index']}"))
+    if floor is not None:
+        rows.append(("σ_min floor", floor.text))
+    if windows is not None:
+        rows.append(("windows", windows))
     reach = report.reachable
     if reach.any():
         m = (np.minimum(report.q - c.lower, c.upper - report.q) / var)[reach]
@@ -117,15 +123,13 @@ def cmd_validate_toolpath(args, load_robot) -> int:
     ws = _windows(robot, args)
     from studies.cli.kinematics import configuration
     start = None if args.start is None else configuration(robot, args.start, "--start")
-    floor = _positive(args.sigma_floor, "--sigma-floor")
-    if args.sigma_min is not None:
-        floor = args.sigma_min if floor is None else max(floor, args.sigma_min)
+    floor = floor_from_args(robot, args, sigma_min=args.sigma_min)
     tol_p = _positive(args.tol_position, "--tol-position")
     tol_o = _positive(args.tol_orientation, "--tol-orientation")
     max_step = _per_joint(robot, args.max_step, "--max-step")
     max_speed = _per_joint(robot, args.max_speed, "--max-speed")
     world = world_from_args(robot, args)
-    report = validate_toolpath(robot, tp, windows=ws, start_q=start, branch_seed=args.seed, sigma_min=floor,
+    report = validate_toolpath(robot, tp, windows=ws, start_q=start, branch_seed=args.seed, sigma_min=floor.active,
                                tol_position=1e-6 if tol_p is None else tol_p * c.length_scale,
                                tol_orientation=1e-6 if tol_o is None else tol_o * c.angle_scale,
                                max_joint_step=max_step, max_speed=max_speed, world=world)
@@ -134,9 +138,13 @@ def cmd_validate_toolpath(args, load_robot) -> int:
         plot_toolpath_report(report, robot, args.plot)
     if args.json:
         from studies.study.toolpath import toolpath_json
-        print(json.dumps(toolpath_json(report, robot, args.waypoints), allow_nan=False))
+        out = toolpath_json(report, robot, args.waypoints)
+        out["sigma_floor"] = floor.to_dict()
+        out["margin"] = args.margin
+        print(json.dumps(out, allow_nan=False))
     else:
-        print(report_text(report, robot))
+        print(report_text(report, robot, floor, None if args.windows else windows_label(c, args.margin,
+                                                                                          args.sigma_min)))
         if args.plot:
             print(f"wrote {args.plot}")
     return 0 if report.ok else 1
@@ -152,8 +160,7 @@ def add_commands(add) -> None:
                          "of a bundled example (" + ", ".join(bundled_toolpaths()) + ")")
     g = window_width_args(sp, sigma_help="singular windows from a σ_min threshold (SI), and S as a σ_min floor")
     g.add_argument("--windows", metavar="FILE.json", help="singular windows saved by `rmt windows --out`")
-    sp.add_argument("--sigma-floor", type=bounded(0, MAX_SIGMA, "(SI)", open_low=True), metavar="S",
-                    help="fail where σ_min (SI) drops below S")
+    sigma_floor_args(sp, "fail where σ_min (SI) drops below S")
     sp.add_argument("--start", nargs="+", metavar="Q",
                     help="configuration to solve the first waypoint from (the start branch), file units")
     sp.add_argument("--seed", type=seed, default=0,

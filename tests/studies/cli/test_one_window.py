@@ -106,8 +106,13 @@ def test_sampled_windows_are_said_and_a_sigma_floor_catches_what_they_miss(capsy
     P = np.loadtxt(path, delimiter=",", skiprows=1)
     t = np.linspace(0, 1, 2001)[:, None]
     assert robot.sigma_min(P[0] + t * (P[1] - P[0])).min() < 1e-6          # it does pass a singularity
+    # without options the robot's default σ_min floor (10⁻³ SI) proves the path invalid (issue 29, finding 3)
     rc, out, err = _cli(["check-path", "franka_panda", str(path), "--margin", "0.05"], capsys)
-    assert "windows proven" in out and "are sampled" in err and "fresh points of the singular set" in err
+    assert rc == 1 and "INVALID" in out and "sigma_min" in out and "default floor of franka_panda, 0.001 (SI)" in out
+    rc, out, err = _cli(["check-path", "franka_panda", str(path), "--margin", "0.05", "--no-singularity-check"],
+                        capsys)
+    assert rc == 0 and "windows of ±0.05 rad (--margin 0.05, robot file unit rad) proven" in out
+    assert "are sampled" in err and "fresh points of the singular set" in err
     rc, out, err = _cli(["check-path", "franka_panda", str(path), "--margin", "0.05", "--sigma-floor", "0.01"],
                         capsys)
     assert rc == 1 and "INVALID" in out and "sigma_min" in out
