@@ -25,7 +25,9 @@ With a collision world (``world``, :class:`planning.collision.CollisionWorld`: a
 cell) every dense state's clearance is computed (``min_clearance``, the smallest, in m, and its row)
 and every segment is proven clear of the cell and of the robot itself, or its first colliding state
 found (:func:`planning.certify.collision.certify_collision`; ``collision_check``, ``"proven"`` or
-``"sampled"``; violation kind ``"collision"`` naming the link, the obstacle and how deep).
+``"sampled"``; violation kind ``"collision"`` naming the link, the obstacle and how deep).  The
+nearest obstacle and the nearest self pair over those states are kept apart (``nearest``, a
+:class:`planning.collision.ClearanceTally`): a self pair near in every pose must not hide the cell.
 """
 from __future__ import annotations
 
@@ -38,6 +40,7 @@ from kin.display import joint_interval, joint_label, joint_value
 from kin.errors import ConfigurationError
 from planning.certify import PathProof, certify_path, certify_sigma
 from planning.certify.collision import CollisionProof, certify_collision
+from planning.collision.report import ClearanceTally
 from planning.windows import WindowSet
 
 DEFAULT_STEP_ANGLE = math.radians(0.1)   # rad
@@ -77,9 +80,14 @@ class PathCheck:
     collision_check: str | None = None   # "proven", "sampled" or None (no collision world)
     clearance_bound: float | None = None  # proven lower bound on the clearance along the path (m)
     collision_proof: CollisionProof | None = field(default=None, repr=False, compare=False)
+    #: the nearest obstacle and the nearest self pair over the checked states, apart
+    #: (:class:`planning.collision.ClearanceTally`; None: no collision world)
+    nearest: ClearanceTally | None = field(default=None, repr=False, compare=False)
 
     def to_dict(self) -> dict:
-        d = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ("proof", "collision_proof")}
+        d = {f.name: getattr(self, f.name) for f in fields(self)
+             if f.name not in ("proof", "collision_proof", "nearest")}
+        d.update(self.nearest.to_dict() if self.nearest is not None else {})
         d["first_violation"] = None if self.first_violation is None else asdict(self.first_violation)
         return d
 
@@ -200,8 +208,10 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
     found: dict[str, Violation] = {}
     sig_min, sig_seg = math.inf, -1
     clear_min, clear_seg = math.inf, -1
+    tally = None if world is None else ClearanceTally(world)
     for Q, seg, frac in dense_chunks(P, counts, chunk):
         if world is not None:
+            tally.add(Q, seg)
             c = world.clearance(Q)
             kc = int(np.argmin(c))
             if c[kc] < clear_min:
@@ -279,4 +289,4 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
         if kind in found:
             note(found[kind])
     return PathCheck(first is None, first, sig_min, sig_seg, max_step_seen, total, windows_check, sigma_check, proof,
-                     None if world is None else clear_min, clear_seg, collision_check, bound, cproof)
+                     None if world is None else clear_min, clear_seg, collision_check, bound, cproof, tally)

@@ -76,6 +76,7 @@ class CollisionWorld:
         self.model.move_base(base)
         self.base = self.model.base
         self.__dict__.pop("_motion_checkers", None)      # native checkers read the old placement
+        self.__dict__.pop("_split", None)
 
     # ---- evaluation ---------------------------------------------------------------------------
     def clearance(self, Q):
@@ -90,6 +91,18 @@ class CollisionWorld:
     def nearest(self, Q):
         """The closest pair per configuration (:class:`kin.geometry.Contact` of arrays)."""
         return self.model.nearest(np.atleast_2d(np.asarray(Q, dtype=float)))
+
+    def split_models(self) -> tuple:
+        """Two clearance models of this world, (obstacles only, self pairs only); None for a kind the
+        world does not check (no obstacles, no self pairs).  What reports use to name the nearest
+        obstacle and the nearest self pair apart (:mod:`planning.collision.report`)."""
+        if "_split" not in self.__dict__:
+            kw = dict(base=self.base, cap=self.cap)
+            obs = ClearanceModel(self.chain, self.geometry, self.obstacles, self_pairs=(), **kw) \
+                if self.obstacles else None
+            slf = ClearanceModel(self.chain, self.geometry, (), self_pairs=self.pairs, **kw) if self.pairs else None
+            self._split = (obs, slf)
+        return self._split
 
     def state_clear(self, q) -> bool:
         """Whether one configuration (a sequence of n floats) is clear by more than the margin."""

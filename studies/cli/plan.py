@@ -81,6 +81,7 @@ def read_path_csv(robot, path: str | Path) -> np.ndarray:
 
 
 def cmd_plan(args, load_robot) -> int:
+    from planning.collision.report import nearest_json
     from planning.ompl.planner import plan
     output_file(args.out)
     robot = require_task_rows(load_robot(args.robot))
@@ -128,6 +129,7 @@ def cmd_plan(args, load_robot) -> int:
             "collisions": res.check.collision_check},
            "min_clearance": None if dense is None else finite_or_none(dense.min_clearance),
            "clearance_bound": None if dense is None else finite_or_none(dense.clearance_bound),
+           **nearest_json(dense.nearest if res.success and dense is not None else None),
            "cell": None if world is None else world.name or args.cell,
            "separation": None if res.separation is None else
            {"joints": list(res.separation.joints), "kind": res.separation.kind, "reason": res.separation.reason},
@@ -164,6 +166,7 @@ def cmd_plan(args, load_robot) -> int:
             if world is not None:
                 print(f"collisions with the cell and the robot itself: {res.check.collision_check}; min clearance "
                       f"{dense.min_clearance * 1e3:.4g} mm (proven ≥ {(dense.clearance_bound or 0.0) * 1e3:.4g} mm)")
+                print("  " + "; ".join(dense.nearest.lines()))      # the cell apart from the robot's own pairs
             if args.out:
                 print(f"wrote {args.out}")
         elif res.separation is not None or res.goal is None:
@@ -189,6 +192,7 @@ def _keep_out(chain, args) -> list:
 
 
 def cmd_check_path(args, load_robot) -> int:
+    from planning.collision.report import nearest_json
     from planning.validate import (
         DEFAULT_STEP_ANGLE,
         DEFAULT_STEP_LENGTH,
@@ -226,7 +230,8 @@ def cmd_check_path(args, load_robot) -> int:
            "windows_check": chk.windows_check, "sigma_check": chk.sigma_check,
            "collision_check": chk.collision_check, "min_clearance": finite_or_none(chk.min_clearance),
            "min_clearance_index": chk.min_clearance_index if world is not None else None,
-           "clearance_bound": finite_or_none(chk.clearance_bound), "sigma_floor": floor.to_dict(),
+           "clearance_bound": finite_or_none(chk.clearance_bound), **nearest_json(chk.nearest),
+           "sigma_floor": floor.to_dict(),
            "margin": args.margin, "units": {"min_clearance": "m", "min_sigma": "SI", "margin": "robot file units"}}
     if args.json:
         print(dump(out))
@@ -244,6 +249,8 @@ def cmd_check_path(args, load_robot) -> int:
         print(f"INVALID at row {fv.index}: {fv.kind} — {fv.detail}")
         print(f"{len(P)} rows, {chk.checked_states} states checked; min σ_min {chk.min_sigma:.3g} (SI); σ_min floor: "
               f"{floor.text}")
+    if not args.json and chk.nearest is not None:       # the cell apart from the robot's own pairs
+        print("  " + "; ".join(chk.nearest.lines()))
     return 0 if chk.valid else 1
 
 
