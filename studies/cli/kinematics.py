@@ -1,5 +1,5 @@
-"""``rmt robots``, ``show``, ``fk``, ``jacobian``, ``ik``: a robot's description and its kinematics at
-one configuration, in the robot file's units."""
+"""``rmt robots``, ``show``, ``fk``, ``jacobian``: a robot's description and its kinematics at one
+configuration, in the robot file's units (``rmt ik``: :mod:`studies.cli.ik`)."""
 from __future__ import annotations
 
 import sys
@@ -8,8 +8,8 @@ import numpy as np
 
 import kin
 from kin.chain import MAX_PRISMATIC
-from kin.transforms import make_transform, rpy_to_matrix
-from studies.cli.common import EXIT_FAIL, EXIT_OK, CliInputError, joint_values, numbers, positions, seed
+from studies.cli.common import EXIT_OK, CliInputError, joint_values
+from studies.cli.ik import add_ik
 from studies.jsonio import dump
 from studies.taskrows import require_task_rows
 from studies.units import joint_units, pose_to_file, unit_names
@@ -154,32 +154,6 @@ def cmd_jacobian(args, load_robot) -> int:
     return EXIT_OK
 
 
-def cmd_ik(args, load_robot) -> int:
-    robot = load_robot(args.robot)
-    c = robot.chain
-    xyz = positions(c, args.xyz, "--xyz")
-    if args.rpy is not None:
-        rpy = np.array(numbers(args.rpy, "--rpy")) * c.angle_scale
-        target = make_transform(rpy_to_matrix(rpy), xyz)
-        mode = "pose"
-    else:
-        target, mode = xyz, "position"
-    q0 = None if args.q0 is None else configuration(robot, args.q0, "--q0")
-    res = robot.ik(target, seed=args.seed, q0=q0, mode=mode)
-    out = {"success": bool(res.success), "q": c.from_si(res.q).tolist(),
-           "position_error": res.position_error / c.length_scale,
-           "orientation_error": res.orientation_error / c.angle_scale,
-           "mode": mode, "units": unit_names(c)}
-    if args.json:
-        print(dump(out))
-    else:
-        status = "solution" if res.success else "NO solution (closest configuration found)"
-        print(f"{status}: q = " + " ".join(f"{x:.6g}" for x in out["q"]))
-        print(f"position error {out['position_error']:.3g} {c.length_unit}, "
-              f"orientation error {out['orientation_error']:.3g} {c.angle_unit}")
-    return EXIT_OK if res.success else EXIT_FAIL
-
-
 def add_commands(add) -> None:
     add("robots", cmd_robots, "list the bundled robots")
     sp = add("show", cmd_show, "show a robot's DH table, limits, base/tool and parameters")
@@ -190,10 +164,4 @@ def add_commands(add) -> None:
         sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
         sp.add_argument("q", metavar="Q", nargs="+", help="joint values in the robot file's units, or the name "
                                                           "of one of its states (e.g. home; see rmt show)")
-    sp = add("ik", cmd_ik, "inverse kinematics of a tool position (and orientation); exit 1 if unsolved")
-    sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
-    sp.add_argument("--xyz", nargs=3, required=True, metavar=("X", "Y", "Z"), help="position, file length unit")
-    sp.add_argument("--rpy", nargs=3, metavar=("R", "P", "Y"),
-                    help="fixed-axis roll-pitch-yaw, file angle unit (omit for position-only IK)")
-    sp.add_argument("--q0", nargs="+", metavar="Q", help="initial guess, file units")
-    sp.add_argument("--seed", type=seed, default=0, help="seed of the random starts (default 0)")
+    add_ik(add)
