@@ -139,18 +139,25 @@ def cmd_jacobian(args, load_robot) -> int:
     q = configuration(robot, args.q)
     _warn_limits(robot, q)
     r = ks.evaluate_configuration(robot, robot.chain.from_si(q))
-    out = {"J": r["J"], "manipulability": r["manipulability"], "sigma_min": r["sigma_min"],
-           "condition": r["condition"], "det": r["det"], "units": unit_names(robot.chain),
+    # the dexterity measures in SI (J in m/s and rad/s per rad/s or m/s), as plan, check-path,
+    # validate-toolpath and the σ_min floor give them; J itself is printed in the file's units
+    si = r["si"]
+    det = None if r["det"] is None else float(np.asarray(robot.det(q)))
+    out = {"J": r["J"], "manipulability": si["manipulability"], "sigma_min": si["sigma_min"],
+           "condition": si["condition"], "det": det, "units": {**unit_names(robot.chain), "J": "robot file units",
+                                                                "measures": "SI"},
            "task_rows": [["x", "y", "z", "rx", "ry", "rz"][i] for i in robot.task_rows]}
     if args.json:
         print(dump(out))
         return EXIT_OK
     c = robot.chain
-    print(f"J (rows vx vy vz [{c.length_unit}/s] wx wy wz [{c.angle_unit}/s] per joint rate):")
+    print(f"J (rows vx vy vz [{c.length_unit}/s] wx wy wz [{c.angle_unit}/s] per joint rate in "
+          f"{'/'.join(sorted(set(joint_units(c))))}/s):")
     print(_fmt_matrix(np.array(r["J"])))
-    cond = "inf (singular)" if r["condition"] is None else f"{r['condition']:.6g}"
-    det = "n/a (task Jacobian not square)" if r["det"] is None else f"{r['det']:.6g}"
-    print(f"manipulability {r['manipulability']:.6g}  sigma_min {r['sigma_min']:.6g}  condition {cond}  det {det}")
+    cond = "inf (singular)" if out["condition"] is None else f"{out['condition']:.6g}"
+    det = "n/a (task Jacobian not square)" if det is None else f"{det:.6g}"
+    print(f"manipulability {out['manipulability']:.6g}  sigma_min {out['sigma_min']:.6g}  condition {cond}  "
+          f"det {det}  (SI: J in m/s and rad/s per rad/s or m/s)")
     return EXIT_OK
 
 

@@ -114,11 +114,13 @@ def test_jacobian_json_fields_and_units(capsys):
     d = json.loads(out)
     J = np.array(d["J"])
     assert J.shape == (6, 3)
-    # SCARA (mm): det of the position Jacobian = 101250 sin q2 mm² (docs/machines.md §2), rows x y z
-    assert d["task_rows"] == ["x", "y", "z"]
-    assert d["det"] == pytest.approx(101250 * math.sin(1.0), rel=1e-12)
+    # SCARA (mm): det of the position Jacobian = 101250 sin q2 mm² (docs/machines.md §2), rows x y z;
+    # the measures are SI (issue 29, finding 6): 0.10125 sin q2 m², σ_min of J with its rows in m
+    assert d["task_rows"] == ["x", "y", "z"] and d["units"]["measures"] == "SI"
+    assert d["det"] == pytest.approx(101250e-6 * math.sin(1.0), rel=1e-12)
     assert d["manipulability"] == pytest.approx(abs(d["det"]), rel=1e-12)
-    s = np.linalg.svd(J[:3], compute_uv=False)
+    J_si = J[:3] * np.array([1e-3, 1e-3, 1.0])          # mm/rad → m/rad (revolute); mm/mm = m/m (prismatic)
+    s = np.linalg.svd(J_si, compute_uv=False)
     assert d["sigma_min"] == pytest.approx(s[-1], rel=1e-10)
     assert d["condition"] == pytest.approx(s[0] / s[-1], rel=1e-10)
 
@@ -213,3 +215,15 @@ def test_show_lists_link_masses_and_torque_limits(capsys):
     assert code == 0 and " 2 mass     8.058 kg   max torque      150" in out
     code, out, _ = run(capsys, "show", "scara_rrp")
     assert "no inertial data or torque limits" in out
+
+
+def test_jacobian_sigma_min_is_si_on_a_degree_robot(capsys):
+    """ur5e is written in degrees: σ_min printed is the SI one (numpy Jacobian), not per degree."""
+    import kin
+    from tests.dh_numpy import jacobian_numpy
+    q = [0, -90, 90, -90, -90, 0]
+    s = np.linalg.svd(jacobian_numpy(kin.load_chain("ur5e"), np.radians(q)), compute_uv=False)[-1]
+    code, out, _ = run(capsys, "jacobian", "ur5e", *map(str, q), "--json")
+    assert code == 0 and json.loads(out)["sigma_min"] == pytest.approx(s, rel=1e-9)
+    code, out, _ = run(capsys, "jacobian", "ur5e", *map(str, q))
+    assert f"sigma_min {s:.6g}" in out and "(SI: J in m/s and rad/s per rad/s or m/s)" in out
