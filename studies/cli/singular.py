@@ -59,6 +59,15 @@ def cmd_singularities(args, load_robot) -> int:
     return 0
 
 
+def _width(c, w, v: float | None = None) -> str:
+    """A window's half-width (or another joint-space distance ``v`` of it: rad where a revolute joint
+    takes part, else m) in the robot file's unit, named: "5°", "2 mm"."""
+    revolute = any(c.joints[j - 1].is_revolute for j in w.joints)
+    x = (w.width if v is None else v) / (c.angle_scale if revolute else c.length_scale)
+    unit = c.angle_unit if revolute else c.length_unit
+    return f"{x:.6g}°" if unit == "deg" else f"{x:.6g} {unit}"
+
+
 def _windows_text(robot: kin.Robot, ws) -> str:
     c = robot.chain
     lines = [f"{c.name}: {len(ws.windows)} window{'s' if len(ws.windows) != 1 else ''}"]
@@ -68,16 +77,16 @@ def _windows_text(robot: kin.Robot, ws) -> str:
             unit = c.angle_unit if c.joints[j - 1].is_revolute else c.length_unit
             ivs = " ∪ ".join(f"[{joint_value_to_file(c, j, lo):.6g}, {joint_value_to_file(c, j, hi):.6g}]"
                              for lo, hi in w.intervals)
-            lines.append(f"  {w.name}\n      q{j} ∈ {ivs or '∅'} {unit}   (half-width {w.width:.6g} SI, {w.method})")
+            lines.append(f"  {w.name}\n      q{j} ∈ {ivs or '∅'} {unit}   (half-width {_width(c, w)}, {w.method})")
         elif getattr(w, "is_point_set", False):
-            lines.append(f"  {w.name}\n      within {w.width:.6g} SI of {len(w.points)} sampled points   ({w.method})")
+            lines.append(f"  {w.name}\n      within {_width(c, w)} of {len(w.points)} sampled points   ({w.method})")
             miss = w.detail.get("miss") or {}
             if miss.get("fresh_set_points"):
                 lines.append(f"      sampled: {miss['outside_window']} of {miss['fresh_set_points']} "
                              "fresh points of the "
-                             f"set lie outside it (farthest {miss['largest_distance']:.3g} SI from a sample)")
+                             f"set lie outside it (farthest {_width(c, w, miss['largest_distance'])} from a sample)")
         else:
-            lines.append(f"  {w.name}\n      |g(q)| ≤ {w.epsilon:.6g}   (half-width ≥ {w.width:.6g} SI, {w.method})")
+            lines.append(f"  {w.name}\n      |g(q)| ≤ {w.epsilon:.6g} (SI)   (half-width ≥ {_width(c, w)}, {w.method})")
     floor = next((w.detail["floor"] for w in ws.windows if isinstance(w.detail.get("floor"), dict)), None)
     if floor:
         lines.append(f"  {floor['measure']} ≥ {floor['threshold']:g} outside the windows is sampled, not proven: "
@@ -148,7 +157,7 @@ def cmd_workspace(args, load_robot) -> int:
     u = c.length_unit
     print(f"{c.name}: {d['counts']['samples']} samples ({d['sampling']['method']}, seed {args.seed}) "
           f"in {d['elapsed_s']:.2f} s")
-    print(f"near-singular ({d['measure']['name']} < {d['measure']['threshold']:.4g}, {d['measure']['rule']}): "
+    print(f"near-singular ({d['measure']['name']} < {d['measure']['threshold']:.4g} (SI), {d['measure']['rule']}): "
           f"{d['counts']['near_singular']} ({100 * d['counts']['near_singular_fraction']:.1f} %)")
     if d["volume"] is not None and d["area"] is None:
         print(f"volume ≈ {d['volume']:.4g} m³ (voxel {d['voxel']['size'] / s:.4g} {u}, {d['voxel']['occupied']} "

@@ -146,3 +146,14 @@ def test_seven_joint_arms_get_their_singular_set_and_windows(name, tmp_path, cap
     assert main(["windows", name, "--margin", "0.05", "--exact-timeout", "2", "--out", str(out)]) == 0
     from planning.windows import WindowSet
     assert len(WindowSet.load(out).windows) >= 1
+
+
+def test_windows_text_in_the_robot_file_units(capsys):
+    """ur5e is written in degrees: --margin 5 means ±5°, and the windows say so (not 0.0872665 SI)."""
+    code, out, _ = run(capsys, "windows", "ur5e", "--margin", "5")
+    assert code == 0
+    assert "q5 ∈ [-360, -355] ∪ [-185, -175] ∪ [-5, 5] ∪ [175, 185] ∪ [355, 360] deg   (half-width 5°, margin)" in out
+    assert "(half-width ≥ 5°, margin)" in out and "SI," not in out
+    code, out, _ = run(capsys, "windows", "ur5e", "--margin", "5", "--json")
+    w = json.loads(out)["windows"][0]
+    assert w["width"] == pytest.approx(math.radians(5), rel=1e-12)       # the file keeps SI
