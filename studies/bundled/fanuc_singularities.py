@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from design.learned.runs import LearnedRuns
 from design.learned.windows import jsonable_report, learned_windows
 from planning.errors import PlanningError
 from planning.toolpath import load_toolpath, validate_toolpath
@@ -197,8 +198,17 @@ def run(s: Study) -> None:
                "being its largest joint error there.")
         w_margin = build_windows(robot, margin=margin, analysis=analysis)
         w_sigma = build_windows(robot, sigma_min=threshold, analysis=analysis)
-        s.say(f"training the learned IK on {n_train:,} poses")
-        w_learned, reports = learned_windows(robot, analysis=analysis, seed=seed, n_train=n_train)
+        # the training runs of the comparison below go to worker processes (a run is single-threaded and
+        # seeded: the same reports as one after another) while this process trains the main network
+        others = [(n_tr, sd) for n_tr in train_sizes for sd in train_seeds if (n_tr, sd) != (n_train, seed)]
+        pending = LearnedRuns(robot, analysis, others)
+        s.say(f"training the learned IK on {n_train:,} poses"
+              + (f" ({len(others)} more runs in {pending.workers} worker processes)" if pending.workers > 1 else ""))
+        try:
+            w_learned, reports = learned_windows(robot, analysis=analysis, seed=seed, n_train=n_train)
+            other_reports = dict(zip(others, pending.results(s.say)))
+        finally:
+            pending.close()
         by_kind = {w.kind: w for w in w_learned.windows}
         sets = {"margin": w_margin, "sigma_min": w_sigma, "learned": w_learned}
 
@@ -251,10 +261,7 @@ def run(s: Study) -> None:
         runs = []
         for n_tr in train_sizes:
             for sd in train_seeds:
-                if not (n_tr == n_train and sd == seed):
-                    s.say(f"training run: {n_tr:,} poses, seed {sd}")
-                reps = reports if (n_tr == n_train and sd == seed) else \
-                    learned_windows(robot, analysis=analysis, seed=sd, n_train=n_tr)[1]
+                reps = reports if (n_tr == n_train and sd == seed) else other_reports[(n_tr, sd)]
                 runs.append({"n_train": n_tr, "seed": sd, "heldout_r2": reps[0].get("heldout_r2"),
                              "widths": {r["factor"]["kind"]: r.get("width") for r in reps}})
         s.table(["training poses", "seed", "held-out R²", *[f"{f.kind} ± (rad)" for f in factors]],

@@ -33,8 +33,9 @@ def cmd_study(args, load_robot) -> int:
     if target.endswith(".toml") or "/" in target or Path(target).is_file():
         from studies.study import kinematics as ks
         from studies.study import run_study
+        from studies.study.script import run_directory_name
         study = ks.load_study(target)
-        out_dir = Path(args.out) / study["name"]
+        out_dir = Path(args.out) / run_directory_name(study["name"], args.quick)
         results = run_study(study, out_dir, progress, quick=args.quick)
         text = study_report(results, out_dir / "report.html")
         ok = results.get("ok", True)
@@ -56,6 +57,8 @@ def add_commands(add) -> None:
     sp.add_argument("study", metavar="STUDY", nargs="?",
                     help="a bundled study's name (see --list) or a study .toml file (default: fanuc_singularities)")
     sp.add_argument("--list", action="store_true", help="list the bundled studies and exit")
-    sp.add_argument("--quick", action="store_true", help="the reduced study: fewer samples, shorter budgets")
+    sp.add_argument("--quick", action="store_true",
+                    help="the reduced study: fewer samples, shorter budgets; written to OUT/NAME-quick, beside the "
+                         "full report")
     sp.add_argument("--out", default="out", help="output directory; the run goes to OUT/NAME (default: out)")
     sp.add_argument("--quiet", action="store_true", help="print nothing but errors")

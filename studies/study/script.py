@@ -18,7 +18,13 @@ from types import ModuleType
 import kin
 from studies.study.context import Study, run_study_function
 
-__all__ = ["run_module", "main", "terminal_summary"]
+__all__ = ["run_module", "main", "run_directory_name", "terminal_summary"]
+
+
+def run_directory_name(name: str, quick: bool) -> str:
+    """The folder a run of study ``name`` writes: ``NAME``, or ``NAME-quick`` for the reduced run, so
+    that a quick look never replaces the full report."""
+    return f"{name}-quick" if quick else name
 
 
 def _check_module(module: ModuleType) -> None:
@@ -29,9 +35,10 @@ def _check_module(module: ModuleType) -> None:
 
 def run_module(module: ModuleType, out: str | Path = "out", quick: bool = False, progress=None
                ) -> tuple[Study, dict, Path]:
-    """Run a study module into ``OUT/NAME``; returns (study, results, report path)."""
+    """Run a study module into ``OUT/NAME`` (a quick run into ``OUT/NAME-quick``, beside the full
+    report, not over it); returns (study, results, report path)."""
     _check_module(module)
-    out_dir = Path(out) / module.NAME
+    out_dir = Path(out) / run_directory_name(module.NAME, quick)
     s, results = run_study_function(module.run, module.NAME, module.TITLE, out_dir, quick=quick, progress=progress,
                                     summary=(module.__doc__ or "").strip().split("\n\n")[0].replace("\n", " "))
     return s, results, out_dir / "report.html"

@@ -32,8 +32,8 @@ def strict_json(text: str):
 class QuickRun(NamedTuple):
     """A bundled study's quick run as a copied script: the process, its report and its results."""
     copied: subprocess.CompletedProcess      # ``python my_NAME.py --quick --out out`` in the copy's directory
-    report: Path                             # out/NAME/report.html beside the copy
-    results: dict                            # out/NAME/results.json, read as strict JSON
+    report: Path                             # out/NAME-quick/report.html beside the copy
+    results: dict                            # out/NAME-quick/results.json, read as strict JSON
 
 
 def quick_run(name: str, tmp_path_factory) -> QuickRun:
@@ -47,7 +47,7 @@ def quick_run(name: str, tmp_path_factory) -> QuickRun:
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))}
     copied = subprocess.run([sys.executable, script.name, "--quick", "--out", "out"], cwd=here, env=env,
                             capture_output=True, text=True, timeout=TIMEOUT_S)
-    out = here / "out" / name
+    out = here / "out" / f"{name}-quick"          # a quick run is written beside the full report
     assert copied.returncode == 0, f"{script.name} exited {copied.returncode}:\n{copied.stderr[-4000:]}"
     assert (out / "report.html").is_file() and (out / "results.json").is_file(), sorted(here.rglob("*"))
     assert str((out / "report.html").resolve()) in copied.stdout       # the terminal summary names the report

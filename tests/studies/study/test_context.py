@@ -108,14 +108,19 @@ def test_a_copied_study_runs_as_a_script(tmp_path, capsys):
     mod.NAME, mod.TITLE, mod.run = "my_study", "My study", _study
     sys.modules["my_study"] = mod
     try:
+        assert main(mod, ["--out", str(tmp_path)]) == 0
+        full = (tmp_path / "my_study" / "report.html").read_bytes()
         assert main(mod, ["--quick", "--out", str(tmp_path)]) == 0
     finally:
         del sys.modules["my_study"]
     out = capsys.readouterr().out
-    assert "✓ all good" in out and str(tmp_path / "my_study" / "report.html") in out
-    d = _strict((tmp_path / "my_study" / "results.json").read_text())
+    # the quick run goes beside the full report, which it leaves as it was
+    assert "✓ all good" in out and str(tmp_path / "my_study-quick" / "report.html") in out
+    assert (tmp_path / "my_study" / "report.html").read_bytes() == full
+    assert _strict((tmp_path / "my_study" / "results.json").read_text())["quick"] is False
+    d = _strict((tmp_path / "my_study-quick" / "results.json").read_text())
     assert d["quick"] is True
-    assert "My study." in (tmp_path / "my_study" / "report.html").read_text()
+    assert "My study." in (tmp_path / "my_study-quick" / "report.html").read_text()
 
 
 def test_an_input_recorded_twice_is_listed_once(tmp_path):
