@@ -237,6 +237,11 @@ class Cell:
                 raise CellError(f"{where}: allowed pair [{a!r}, {b!r}] names body {i} twice")
             pairs.add((min(i, j), max(i, j)))
         tool = tuple(replace(c, body=n + 1) for c in self.tool)
+        tcp = getattr(robot, "tcp", None)       # kin.with_tcp moved the tool frame; the cell's tool stays put
+        if tcp is not None and tool:
+            inv = np.linalg.inv(np.asarray(tcp, dtype=float))
+            at = lambda p: tuple(float(x) for x in (inv @ [*p, 1.0])[:3])  # noqa: E731
+            tool = tuple(replace(c, a=at(c.a), b=at(c.b)) for c in tool)
         source = geometry.source + (" + cell tool" if tool else "")
         geom = RobotGeometry(tuple(geometry.capsules) + tool, geometry.allowed | frozenset(pairs), source,
                              geometry.radius, geometry.over_estimate)

@@ -35,6 +35,7 @@ from studies.cli import (
     urdf,
 )
 from studies.cli.common import EXIT_OK, EXIT_USAGE
+from studies.cli.tcp import TCP_COMMANDS, robot_loader, tcp_args
 
 #: the command groups, in the order ``rmt --help`` lists their commands
 GROUPS = (kinematics, singular, plan, timing, cell, scene, toolpath, follow, study, design, reach, place, sweep, urdf)
@@ -66,10 +67,13 @@ def build_parser() -> argparse.ArgumentParser:
         sp = sub.add_parser(name, help=help_.replace("%", "%%"), description=help_)
         sp.set_defaults(func=func)
         sp.add_argument("--json", action="store_true", help="print one JSON object")
+        if name in TCP_COMMANDS:
+            tcp_args(sp)
         return sp
 
     for group in GROUPS:
-        group.add_commands(lambda name, func, text: add(name, lambda args, f=func: f(args, kin.load_robot), text))
+        group.add_commands(lambda name, func, text: add(
+            name, lambda args, f=func: f(args, robot_loader(args, kin.load_robot)), text))
     return p
 
 
