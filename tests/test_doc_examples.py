@@ -185,7 +185,13 @@ def _read_toml_example(text: str, tmp_path: Path):
     if "[[box]]" in text:
         from planning.ompl.keep_out import parse_keep_out
         return parse_keep_out(text, "m")
-    raise AssertionError("a TOML example of no known kind (robot, study, task, sweep, tool path, keep-out, cell)")
+    if "[[move]]" in text:               # an rmt time cycle file (docs/cli.md's is for the ur5e)
+        from studies.cli.timecycle import read_cycle_file
+        path = tmp_path / "cycle.toml"
+        path.write_text(text)
+        return read_cycle_file(kin.load_robot("ur5e"), path)
+    raise AssertionError("a TOML example of no known kind (robot, study, task, sweep, tool path, keep-out, cell, "
+                         "cycle)")
 
 
 @pytest.mark.parametrize("page, text, line", TOML, ids=[_id(p, ln) for p, _, ln in TOML])

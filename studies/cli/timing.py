@@ -10,7 +10,10 @@ joint-space distances (rad or m, the arc length the timing works in).  Output in
 waypoints it leaves the straight segments (a path certified segment by segment is no longer covered
 by that proof) and may leave the joint limits: the exact range of every joint along it is checked
 (exit 1 when outside), and ``--path-out`` writes it as a dense path for ``rmt check-path`` (windows,
-cell)."""
+cell).
+
+A ``.toml`` path argument is a cycle file: several moves with dwells, timed into one trajectory
+(:mod:`studies.cli.timecycle`)."""
 from __future__ import annotations
 
 import csv
@@ -97,11 +100,15 @@ def cmd_time(args, load_robot) -> int:
     output_file(args.path_out)
     robot = load_robot(args.robot)
     c = robot.chain
-    P = read_path_csv(robot, args.path)
+    from studies.cli.timecycle import is_cycle_file, time_cycle
+    cycle = is_cycle_file(args.path)
+    P = None if cycle else read_path_csv(robot, args.path)
     vmax, amax = limits_or_defaults(robot, args.v_max, args.a_max)
     jmax = _per_joint(robot, args.j_max, "--j-max", 1, None)
     taumax = _per_joint(robot, args.tau_max, "--tau-max", 0, None)
     use_robot = taumax is not None or has_inertia(c)
+    if cycle:
+        return time_cycle(args, robot, vmax, amax, jmax, taumax, use_robot, _csv)
     tr = time_parameterize(P, vmax, amax, ds=args.ds, blend=args.blend, j_max=jmax,
                            robot=robot if use_robot else None, tau_max=taumax, shape=args.shape)
     if args.csv:
@@ -177,8 +184,9 @@ def add_commands(add) -> None:
     sp = add("time", cmd_time, "time a joint path (CSV) under speed, acceleration, torque and jerk limits "
                                "(minimum time on a grid, rest to rest)")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
-    sp.add_argument("path", metavar="PATH.csv", help="one configuration per row, robot file units "
-                                                     "(what `rmt plan --out` writes)")
+    sp.add_argument("path", metavar="PATH.csv|CYCLE.toml",
+                    help="one configuration per row, robot file units (what `rmt plan --out` writes); or a cycle "
+                         "file (.toml): moves (path CSVs or waypoints) with dwells, timed into one trajectory")
     sp.add_argument("--v-max", nargs="+", metavar="V", help="joint speed limits, file units/s: one for all joints "
                                                            "or one per joint (default: the joints' max_velocity)")
     sp.add_argument("--a-max", nargs="+", metavar="A", help="joint acceleration limits, file units/s² (default: "
@@ -196,6 +204,8 @@ def add_commands(add) -> None:
                          "through every waypoint (faster through many close waypoints)")
     sp.add_argument("--path-out", metavar="FILE.csv", help="write the shaped path as a dense joint path CSV "
                     f"(within {SHAPED_TOLERANCE:g} rad or m of it) for `rmt check-path`")
-    sp.add_argument("--csv", metavar="FILE.csv", help="write the sampled trajectory: t, q, q̇, q̈ (file units), τ")
+    sp.add_argument("--csv", "--out", dest="csv", metavar="FILE.csv",
+                    help="write the sampled trajectory (of the whole cycle for a cycle file): t, q, q̇, q̈ (file "
+                         "units), τ")
     sp.add_argument("--plot", metavar="FILE.png", help="write speed, acceleration and torque over their limits "
                                                        "against time")
