@@ -61,8 +61,8 @@ def cmd_ik(args, load_robot) -> int:
             method = "closed form"
         except NoClosedFormError:
             sols = None
-    out = {"mode": mode, "frame": frame, "method": method, "units": unit_names(c),
-           "near": None if ref is None else c.from_si(ref).tolist()}
+    out = {"success": False, "q": None, "position_error": None, "orientation_error": None, "mode": mode,
+           "frame": frame, "method": method, "near": None if ref is None else c.from_si(ref).tolist()}
     if sols is not None:
         r0 = np.zeros(c.n) if ref is None else ref
         hits = _collisions(world, sols)
@@ -85,6 +85,7 @@ def cmd_ik(args, load_robot) -> int:
                     "orientation_error": res.orientation_error / c.angle_scale,
                     "solutions": [{"q": c.from_si(res.q).tolist(), "collision": _collisions(world, [res.q])[0]}]
                     if ok else []})
+    out["units"] = unit_names(c)
     if args.json:
         print(dump(out))
     else:
