@@ -16,7 +16,7 @@ from studies.cli.frames import frame_arg, frame_name, pose_frame, pose_from_args
 from studies.jsonio import dump
 from studies.units import unit_names
 
-__all__ = ["add_ik", "cmd_ik"]
+__all__ = ["add_commands", "cmd_ik"]
 
 
 def _near(robot, args) -> np.ndarray | None:
@@ -115,7 +115,7 @@ def _print(c, out: dict, frame: str, near_given: bool, cell: bool) -> None:
         print(f"in collision in the cell: {out['solutions'][0]['collision']}")
 
 
-def add_ik(add) -> None:
+def add_commands(add) -> None:
     sp = add("ik", cmd_ik, "inverse kinematics of a tool pose (every closed-form branch, nearest first) or "
                            "position; exit 1 if unsolved")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")

@@ -9,7 +9,6 @@ import numpy as np
 import kin
 from kin.chain import MAX_PRISMATIC
 from studies.cli.common import EXIT_OK, CliInputError, joint_values
-from studies.cli.ik import add_ik
 from studies.jsonio import dump
 from studies.taskrows import require_task_rows
 from studies.units import joint_units, pose_to_file, unit_names
@@ -171,4 +170,3 @@ def add_commands(add) -> None:
         sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
         sp.add_argument("q", metavar="Q", nargs="+", help="joint values in the robot file's units, or the name "
                                                           "of one of its states (e.g. home; see rmt show)")
-    add_ik(add)

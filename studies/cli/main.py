@@ -22,6 +22,7 @@ from studies.cli import (
     cell,
     design,
     follow,
+    ik,
     kinematics,
     place,
     plan,
@@ -38,7 +39,8 @@ from studies.cli.common import EXIT_OK, EXIT_USAGE
 from studies.cli.tcp import TCP_COMMANDS, robot_loader, tcp_args
 
 #: the command groups, in the order ``rmt --help`` lists their commands
-GROUPS = (kinematics, singular, plan, timing, cell, scene, toolpath, follow, study, design, reach, place, sweep, urdf)
+GROUPS = (kinematics, ik, singular, plan, timing, cell, scene, toolpath, follow, study, design, reach, place, sweep,
+          urdf)
 
 
 class UsageError(Exception):
