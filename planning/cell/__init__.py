@@ -3,7 +3,8 @@ never checked, read from a TOML cell file (docs/cells.md).
 
 * :mod:`planning.cell.model` — :class:`Cell`, :meth:`Cell.resolve` → :class:`ResolvedCell`; names
   that could be a body or an obstacle (``body:`` / ``obstacle:``);
-* :mod:`planning.cell.reader` — :func:`load_cell`, :func:`parse_cell` (every field checked);
+* :mod:`planning.cell.reader` — :func:`load_cell`, :func:`parse_cell` (every field checked),
+  :func:`cell_tcp` (the tool centre point alone);
 * :mod:`planning.cell.fields` — checked access to one table's fields, units converted;
 * :mod:`planning.cell.obstacles` — the obstacle types (primitives, cones, meshes, point clouds,
   compounds of several parts) as :class:`kin.geometry.Obstacle`;
@@ -17,9 +18,9 @@ from planning.cell.keep_out import cell_from_keep_out
 from planning.cell.mesh import load_mesh
 from planning.cell.model import Cell, ResolvedCell, body_lookup
 from planning.cell.points import load_points
-from planning.cell.reader import OBSTACLE_TYPES, TOOL_TYPES, load_cell, parse_cell
+from planning.cell.reader import OBSTACLE_TYPES, TOOL_TYPES, cell_tcp, load_cell, parse_cell
 from planning.errors import CellError
 
 __all__ = ["OBSTACLE_TYPES", "TOOL_TYPES", "Cell", "CellError", "ResolvedCell", "SphereCover", "body_lookup",
-           "cell_from_keep_out", "enclose_points", "enclose_triangles", "load_cell", "load_mesh", "load_points",
-           "parse_cell"]
+           "cell_from_keep_out", "cell_tcp", "enclose_points", "enclose_triangles", "load_cell", "load_mesh",
+           "load_points", "parse_cell"]

@@ -16,6 +16,7 @@ Everything is SI (m) in the *cell frame* (the world); the robot's DH frame 0 sit
 """
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -23,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from kin.geometry import LinkCapsule, Obstacle, RobotGeometry, body_names, default_geometry
-from kin.transforms import rigidity_defect
+from kin.transforms import matrix_to_rpy, rigidity_defect
 from planning.errors import CellError
 
 __all__ = ["Cell", "ResolvedCell", "TOOL_BODY", "BODY", "OBSTACLE", "body_lookup", "is_body_like", "split_reference"]
@@ -89,7 +90,9 @@ class Cell:
     them when the robot has a body of that name: the pair could mean either); ``path``: the
     file read, if any; ``length_unit``: the file's (values here are SI); ``source``: what the cell was
     read from when not a file (for messages); ``meshes``: the triangles (k, 3, 3) of each mesh obstacle
-    by name, placed in the cell (m, float32, read-only) — what its spheres enclose, kept for drawing.
+    by name, placed in the cell (m, float32, read-only) — what its spheres enclose, kept for drawing;
+    ``tcp``: the tool centre point the file's ``[[tool]] tcp`` sets (4×4, SI, in the robot file's tool
+    frame, read-only), or None — :meth:`with_tcp` gives a robot that uses it.
     """
 
     name: str
@@ -104,6 +107,7 @@ class Cell:
     length_unit: str = "m"
     source: str = ""
     meshes: dict[str, np.ndarray] = field(default_factory=dict)
+    tcp: np.ndarray | None = None
 
     def __post_init__(self):
         where = self.where
@@ -124,6 +128,12 @@ class Cell:
             raise CellError(f"{where}: the robot's placement must be a finite rigid 4×4 transform")
         B.setflags(write=False)
         object.__setattr__(self, "base", B)
+        if self.tcp is not None:
+            T = np.array(self.tcp, dtype=float)
+            if T.shape != (4, 4) or not np.all(np.isfinite(T)) or rigidity_defect(T) > 1e-6:
+                raise CellError(f"{where}: the tool centre point (tcp) must be a finite rigid 4×4 transform")
+            T.setflags(write=False)
+            object.__setattr__(self, "tcp", T)
         seen: set[str] = set()
         for k, ob in enumerate(self.obstacles, 1):
             if not isinstance(ob, Obstacle):
@@ -187,11 +197,24 @@ class Cell:
             shape = f"sphere radius {c.radius * 1000:.1f} mm" if c.length == 0 else \
                 f"capsule radius {c.radius * 1000:.1f} mm, length {c.length * 1000:.1f} mm"
             out.append(f"  tool shape {c.name or 'tool'!r}: {shape}")
+        if self.tcp is not None:
+            xyz = " ".join(f"{v * 1000:.6g}" for v in self.tcp[:3, 3])
+            rpy = " ".join(f"{math.degrees(v):.6g}" for v in matrix_to_rpy(self.tcp[:3, :3]))
+            out.append(f"  tool centre point (tcp): xyz {xyz} mm, rpy {rpy}° in the robot file's tool frame")
         if never:
             out.append("  never checked against each other: " + "; ".join(f"{a} – {b}" for a, b in never))
         return out
 
     # ---- tying it to a robot ------------------------------------------------------------------
+    def with_tcp(self, robot):
+        """``robot`` (a :class:`kin.Robot`) with the cell's tool centre point (:func:`kin.tcp.with_tcp`):
+        FK, IK and goal poses are then about that point.  ``robot`` itself when the cell has no
+        ``tcp`` or the robot already carries one of its own (``kin.with_tcp``, ``--tcp``): that one wins."""
+        if self.tcp is None or getattr(robot, "tcp", None) is not None:
+            return robot
+        from kin.tcp import with_tcp
+        return with_tcp(robot, self.tcp)
+
     def resolve(self, robot, geometry: RobotGeometry | None = None) -> "ResolvedCell":
         """The cell for one robot (a :class:`kin.Robot` or a chain): body names looked up, the tool's
         capsules put on body n + 1, obstacles given their ``ignore`` sets.

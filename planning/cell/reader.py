@@ -19,6 +19,7 @@ The format is documented in docs/cells.md; in short::
     ignore = ["base", "link 1"]   # bodies allowed to touch it (default: none)
 
     [[tool]]                      # the tool's shapes, in the tool frame: capsule a, b, radius | sphere center, radius
+    tcp = [0, 0, 150, 0, 0, 0]    # one [[tool]] table may set the tool centre point: x, y, z [, roll, pitch, yaw]
     [allow]
     pairs = [["link 3", "tool"], ["link 6", "obstacle:base"]]  # body–body or body–obstacle pairs never checked
 
@@ -38,9 +39,12 @@ import tomllib
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
+
 from kin.chain import ANGLE_UNITS, LENGTH_UNITS
+from kin.errors import ArgumentError
 from kin.geometry import LinkCapsule
-from planning.cell.fields import MAX_LENGTH, Table, check_keys
+from planning.cell.fields import MAX_LENGTH, Table, check_keys, is_num
 from planning.cell.mesh import MAX_FILE_BYTES
 from planning.cell.model import OBSTACLE, TOOL_BODY, Cell, is_body_like, split_reference
 from planning.cell.obstacles import (
@@ -54,7 +58,7 @@ from planning.cell.obstacles import (
 )
 from planning.errors import CellError
 
-__all__ = ["load_cell", "parse_cell", "OBSTACLE_TYPES", "TOOL_TYPES", "MAX_OBSTACLES", "MAX_TOOL_SHAPES",
+__all__ = ["load_cell", "parse_cell", "cell_tcp", "OBSTACLE_TYPES", "TOOL_TYPES", "MAX_OBSTACLES", "MAX_TOOL_SHAPES",
            "MAX_PAIRS", "MAX_CELL_ELEMENTS", "MAX_CELL_PARTS", "MAX_CELL_BYTES", "MAX_PARTS", "MAX_SPHERES",
            "DEFAULT_MAX_SPHERES", "DEFAULT_TOLERANCE", "MAX_LENGTH"]
 
@@ -147,7 +151,7 @@ def _pair_side(where: str, k: int, ref: str, names: dict[str, int], body_like: d
 
 def _tool(f: Table, k: int) -> LinkCapsule:
     kind = f.string("type", None, tuple(TOOL_TYPES))
-    check_keys(f.label, f.t, TOOL_TYPES[kind])
+    check_keys(f.label, f.t, TOOL_TYPES[kind] | {"tcp"})
     raw = f.t.get("name", "tool")
     if not (isinstance(raw, str) and raw.strip() and len(raw) <= MAX_NAME and raw.isprintable()):
         raise f.fail("name", f"must be 1 to {MAX_NAME} printable characters, not {raw!r}")
@@ -156,6 +160,43 @@ def _tool(f: Table, k: int) -> LinkCapsule:
         c = f.point("center")
         return LinkCapsule(TOOL_BODY, c, c, r, raw)
     return LinkCapsule(TOOL_BODY, f.point("a"), f.point("b"), r, raw)
+
+
+def _tcp(f: Table) -> np.ndarray:
+    """A ``[[tool]]`` table's ``tcp = [x, y, z]`` or ``[x, y, z, roll, pitch, yaw]`` (the cell's units) → 4×4 (SI),
+    bounded as ``--tcp``: each finite, lengths within ±10 km, angles within ±360°."""
+    from kin.tcp import tcp_transform
+    v, lu, au = f.t["tcp"], f.unit, f.angle_unit
+    if not (isinstance(v, list) and len(v) in (3, 6) and all(is_num(x) for x in v)):
+        raise f.fail("tcp", f"must be [x, y, z] or [x, y, z, roll, pitch, yaw] ({lu}, {au}), not {v!r}")
+    try:
+        return tcp_transform(v, lu, au, f"{f.label}: tcp")
+    except ArgumentError as e:
+        raise CellError(str(e)) from None
+
+
+def _units(top: Table) -> tuple[str, str]:
+    return top.string("length_unit", "m", tuple(LENGTH_UNITS)), top.string("angle_unit", "deg", tuple(ANGLE_UNITS))
+
+
+def _tools(where: str, doc: dict, unit: str, angle_unit: str, shapes: bool = True):
+    """The ``[[tool]]`` tables: (their shapes, the tcp one of them sets or None); ``shapes=False`` reads
+    only the tcp."""
+    tools_raw = doc.get("tool", [])
+    if not isinstance(tools_raw, list) or not all(isinstance(o, dict) for o in tools_raw):
+        raise CellError(f"{where}: tool must be an array of tables ([[tool]])")
+    if len(tools_raw) > MAX_TOOL_SHAPES:
+        raise CellError(f"{where}: {len(tools_raw)} tool shapes; at most {MAX_TOOL_SHAPES}")
+    tool, tcp, tcp_at = [], None, 0
+    for k, t in enumerate(tools_raw, 1):
+        f = Table(_label(where, "tool", k, t), t, unit, LENGTH_UNITS[unit], angle_unit)
+        if "tcp" in t:
+            if tcp is not None:
+                raise f.fail("tcp", f"the tool centre point is already set by tool {tcp_at}; a cell file holds one tcp")
+            tcp, tcp_at = _tcp(f), k
+        if shapes and not ("tcp" in t and set(t) <= {"tcp", "name"}):     # a table of only a tcp is no shape
+            tool.append(_tool(f, k))
+    return tool, tcp
 
 
 def parse_cell(text: str, where: str = "cell", base_dir: str | Path | None = None) -> Cell:
@@ -170,8 +211,7 @@ def parse_cell(text: str, where: str = "cell", base_dir: str | Path | None = Non
         raise CellError(f"{where}: not valid TOML ({e})") from None
     check_keys(where, doc, _TOP)
     top = Table(where, doc, "m", 1.0, "deg")
-    unit = top.string("length_unit", "m", tuple(LENGTH_UNITS))
-    angle_unit = top.string("angle_unit", "deg", tuple(ANGLE_UNITS))
+    unit, angle_unit = _units(top)
     scale = LENGTH_UNITS[unit]
     default_name = Path(where).stem if where.endswith(".toml") else "cell"
     name = top.string("name", default_name)
@@ -209,13 +249,7 @@ def parse_cell(text: str, where: str = "cell", base_dir: str | Path | None = Non
             meshes[ob_name] = triangles
     pairs_ob = [(ob_name, b) for k, ob_name, refs in ignores for b in _ignore(where, k, ob_name, refs, names)]
 
-    tools_raw = doc.get("tool", [])
-    if not isinstance(tools_raw, list) or not all(isinstance(o, dict) for o in tools_raw):
-        raise CellError(f"{where}: tool must be an array of tables ([[tool]])")
-    if len(tools_raw) > MAX_TOOL_SHAPES:
-        raise CellError(f"{where}: {len(tools_raw)} tool shapes; at most {MAX_TOOL_SHAPES}")
-    tool = [_tool(Table(_label(where, "tool", k, t), t, unit, scale, angle_unit), k)
-            for k, t in enumerate(tools_raw, 1)]
+    tool, tcp = _tools(where, doc, unit, angle_unit)
 
     allow = doc.get("allow", {})
     if not isinstance(allow, dict):
@@ -241,13 +275,34 @@ def parse_cell(text: str, where: str = "cell", base_dir: str | Path | None = Non
         else:
             body_pairs.append((a, b))
     return Cell(name, tuple(obstacles), base, tuple(tool), tuple(body_pairs), tuple(pairs_ob), notes,
-                unqualified=frozenset(unqualified), length_unit=unit, source=where, meshes=meshes)
+                unqualified=frozenset(unqualified), length_unit=unit, source=where, meshes=meshes, tcp=tcp)
+
+
+def cell_tcp(path: str | Path):
+    """The tool centre point a cell file's ``[[tool]] tcp`` sets (4×4, SI, in the robot file's tool
+    frame), or None — read and checked as :func:`load_cell` does, without building the obstacles."""
+    path = Path(path)
+    text = _read(path)
+    if len(text) > MAX_CELL_BYTES:
+        raise CellError(f"{path}: {len(text)} characters; a cell file may have at most {MAX_CELL_BYTES}")
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise CellError(f"{path}: not valid TOML ({e})") from None
+    check_keys(str(path), doc, _TOP)
+    unit, angle_unit = _units(Table(str(path), doc, "m", 1.0, "deg"))
+    return _tools(str(path), doc, unit, angle_unit, shapes=False)[1]
 
 
 def load_cell(path: str | Path) -> Cell:
     """The :class:`Cell` of a cell file (TOML, see docs/cells.md); meshes and point clouds it names
     are found relative to it.  The file is bounded (:data:`MAX_CELL_BYTES`) before it is read."""
     path = Path(path)
+    return replace(parse_cell(_read(path), str(path), path.parent), path=path)
+
+
+def _read(path: Path) -> str:
+    """A cell file's text, bounded (:data:`MAX_CELL_BYTES`) before it is read."""
     try:
         size = path.stat().st_size
         if size > MAX_CELL_BYTES:
@@ -258,4 +313,4 @@ def load_cell(path: str | Path) -> Cell:
         raise CellError(f"{path}: no such cell file") from None
     except (OSError, UnicodeDecodeError) as e:
         raise CellError(f"{path}: cannot read ({e})") from None
-    return replace(parse_cell(text, str(path), path.parent), path=path)
+    return text

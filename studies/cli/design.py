@@ -8,6 +8,7 @@ from pathlib import Path
 import kin
 from kin.output import write_output
 from studies.cli.common import EXIT_FAIL, EXIT_OK, MAX_SIGMA, CliInputError, bounded, bundled_file, seed
+from studies.cli.tcp import with_task_cell_tcp
 from studies.jsonio import dump, jsonable
 
 #: bundled example task files: ``rmt optimise NAME`` finds ``NAME.toml`` here
@@ -76,6 +77,7 @@ def cmd_coverage(args, load_robot) -> int:
         from planning.cell import load_cell
         from studies.cli.common import cell_file
         cell = load_cell(cell_file(args.cell))
+    robot = with_task_cell_tcp(args, robot, cell)
     if args.clearance:
         if cell is None:
             raise CliInputError("--clearance needs --cell (or a task file with a cell)")

@@ -13,6 +13,7 @@ from pathlib import Path
 from kin.output import check_output, write_output
 from studies.cli.common import EXIT_FAIL, EXIT_OK, CliInputError, bounded, seed
 from studies.cli.reach import reach_csv, task_cell
+from studies.cli.tcp import with_task_cell_tcp
 from studies.jsonio import dump
 
 #: the score's dexterity measures (:data:`design.reach.MEASURES`; not imported: ``rmt --help`` stays light)
@@ -134,6 +135,7 @@ def cmd_place(args, load_robot) -> int:
         for name in ("placement.json", "reach.csv"):
             check_output(out_dir / name)
     cell, clearance = task_cell(args, task, ls)
+    robot = with_task_cell_tcp(args, robot, cell)
     region = _region(args, task, robot, cell)
     from design.place import MAX_GRID, place
     k = int(region.free.sum())

@@ -24,6 +24,7 @@ from studies.cli.common import (
     window_width_args,
     windows_from_args,
 )
+from studies.cli.tcp import with_task_cell_tcp
 from studies.jsonio import dump
 
 #: the score's dexterity measures (:data:`design.reach.MEASURES`; not imported: ``rmt --help`` stays light)
@@ -125,6 +126,7 @@ def cmd_reach(args, load_robot) -> int:
     for p in outputs.values():
         check_output(p)
     cell, clearance = task_cell(args, task, ls)
+    robot = with_task_cell_tcp(args, robot, cell)
     placement = None
     if args.placement is not None:
         import numpy as np
