@@ -308,7 +308,11 @@ def test_cli_check_path_exit_codes(capsys, tmp_path):
     assert code == 1
     d = json.loads(out)
     assert d["valid"] is False and d["first_violation"]["index"] == 1 and d["first_violation"]["kind"] == "window"
-    code, _, _ = run(capsys, "check-path", "puma560", str(bad_path))          # no windows: valid
+    # no windows: the robot's default σ_min floor flags the wrist singularity q5 = 0 the path crosses
+    # (issue 29, finding 3); with the floor off too the path is valid
+    code, out, _ = run(capsys, "check-path", "puma560", str(bad_path), "--json")
+    assert code == 1 and json.loads(out)["first_violation"]["kind"] == "sigma_min"
+    code, _, _ = run(capsys, "check-path", "puma560", str(bad_path), "--no-singularity-check")
     assert code == 0
     broken = tmp_path / "broken.csv"
     broken.write_text("0,-45,180,0,30,0\n0,-45,abc,0,30,0\n")

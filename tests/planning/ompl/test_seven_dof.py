@@ -148,9 +148,12 @@ def test_cli_plan_and_check_path_say_the_windows_are_proven(capsys, tmp_path):
     rc, out, err = _cli([*args, "--out", str(out_csv), "--json"], capsys)
     d = json.loads(out)
     assert rc == 0 and d["success"] and d["proven"] and d["checks"]["windows"] == "proven"
-    assert "add --sigma-floor S" in err                 # the windows hold the set as far as their samples
+    # the robot's default σ_min floor is proven too (issue 29, finding 3), so no note about sampled windows
+    assert d["checks"]["sigma_min"] == "proven" and d["sigma_floor"]["source"] == "rule" and err == ""
+    rc, out, err = _cli([*args, "--no-singularity-check", "--json"], capsys)
+    assert rc == 0 and "drop --no-singularity-check" in err     # the windows hold the set as far as their samples
     rc, out, err = _cli(["check-path", "franka_panda", str(out_csv), "--margin", "0.05"], capsys)
-    assert rc == 0 and "windows proven" in out
+    assert rc == 0 and "windows of ±0.05 rad (--margin 0.05, robot file unit rad) proven" in out
     P = np.loadtxt(out_csv, delimiter=",", skiprows=1)
     assert not in_any_window(ws, dense(P)).any()
     rc, out, err = _cli([*args, "--sigma-floor", "0.05", "--json"], capsys)
