@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from kin.ik.analytic import NoClosedFormError, analytic_ik
 from studies.cli.common import EXIT_FAIL, EXIT_OK, CliInputError, cell_args, seed, world_from_args
 from studies.cli.frames import frame_arg, frame_name, pose_frame, pose_from_args
 from studies.jsonio import dump
@@ -56,6 +55,7 @@ def cmd_ik(args, load_robot) -> int:
         raise CliInputError("--all-turns needs a pose (--rpy): a position alone has a continuum of solutions")
     sols, method = None, "numeric"
     if mode == "pose":
+        from kin.ik.analytic import NoClosedFormError, analytic_ik  # casadi: not on `rmt --help`
         try:
             sols = analytic_ik(robot, target, q_ref=ref, all_turns=args.all_turns)
             method = "closed form"

@@ -185,7 +185,8 @@ def test_start_in_the_shoulder_window_and_below_the_floor(fanuc):
     with pytest.raises(PlanningError, match=r"start configuration is invalid: inside the singular window 'shoulder"):
         plan(robot, q, EASY_B, ws, time_limit=0.5)
     s = sigma_numpy(robot.chain, EASY_A[None])[0]
-    with pytest.raises(PlanningError, match=rf"start configuration is invalid: σ_min = {s:.3g} \(SI\) is below the floor 10 \(SI\)"):
+    msg = rf"start configuration is invalid: σ_min = {s:.3g} \(SI\) is below the floor 10 \(SI\)"
+    with pytest.raises(PlanningError, match=msg):
         plan(robot, EASY_A, EASY_B, ws, sigma_min=10.0, time_limit=0.5)
 
 
