@@ -35,6 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from kin.display import joint_interval, joint_value
 from planning.certify.intervals import IntervalError, compile_interval
 from planning.certify.segments import window_expression
 
@@ -48,7 +49,8 @@ GRID_CELLS = {1: 4096, 2: 256, 3: 48}
 class Separation:
     """Why no joint path joins two configurations: ``joints`` (1-based) of the group that separates
     them, ``windows`` (names) of that group, ``kind`` (``"slab"``: exact, one joint; ``"cells"``:
-    the proven-blocked cells of a 2- or 3-joint group), and ``reason``, one sentence (SI units)."""
+    the proven-blocked cells of a 2- or 3-joint group), and ``reason``, one sentence (the robot
+    file's units when the query gave the chain, else SI)."""
 
     joints: tuple[int, ...]
     windows: tuple[str, ...]
@@ -129,6 +131,15 @@ def _fmt(v: float) -> str:
     return f"{v:.4g}"
 
 
+def _value(chain, j: int, v: float) -> str:
+    """Joint ``j``'s value in the chain's file units with the unit (SI, unit-less, without a chain)."""
+    return _fmt(v) if chain is None else joint_value(chain, j, v, digits=4)
+
+
+def _interval(chain, j: int, lo: float, hi: float) -> str:
+    return f"[{_fmt(lo)}, {_fmt(hi)}]" if chain is None else joint_interval(chain, j, lo, hi, digits=4)
+
+
 class FreeCells:
     """The free-cell structure of one robot's windows (computed once; queries are cheap).
 
@@ -149,15 +160,15 @@ class FreeCells:
         self._grids: dict[tuple[int, ...], tuple[np.ndarray, np.ndarray, np.ndarray, list[str]] | None] = {}
 
     # ---- one joint: exact ------------------------------------------------------------------------
-    def _slab(self, j: int, ws, a: float, b: float) -> Separation | None:
+    def _slab(self, j: int, ws, a: float, b: float, chain=None) -> Separation | None:
         blocked = sorted((lo, hi) for w in ws for lo, hi in w.intervals)
         lo_, hi_ = min(a, b), max(a, b)
         for lo, hi in blocked:
             if lo_ < lo and hi < hi_:          # a whole window interval lies between the two values
                 w = next(w for w in ws if (lo, hi) in [tuple(iv) for iv in w.intervals])
                 return Separation((j + 1,), (w.name,), "slab",
-                                  f"the {w.kind} window q{j + 1} ∈ [{_fmt(lo)}, {_fmt(hi)}] separates start "
-                                  f"(q{j + 1} = {_fmt(a)}) and goal (q{j + 1} = {_fmt(b)})")
+                                  f"the {w.kind} window q{j + 1} ∈ {_interval(chain, j, lo, hi)} separates start "
+                                  f"(q{j + 1} = {_value(chain, j, a)}) and goal (q{j + 1} = {_value(chain, j, b)})")
         return None
 
     # ---- two or three joints: proven-blocked cells --------------------------------------------------
@@ -211,9 +222,10 @@ class FreeCells:
         return tuple(int(np.clip(np.searchsorted(edges[c], q[j], side="right") - 1, 0, len(edges[c]) - 2))
                      for c, j in enumerate(js))
 
-    def separation(self, start, goal) -> Separation | None:
+    def separation(self, start, goal, chain=None) -> Separation | None:
         """Why no joint path joins ``start`` and ``goal`` (SI, (n,)), or None when no group proves it.
-        Both are assumed valid (inside the limits and outside every window)."""
+        Both are assumed valid (inside the limits and outside every window).  ``chain``: the robot's
+        chain, to give the reason's joint values in its file's units (else SI)."""
         a = np.asarray(start, dtype=float)
         b = np.asarray(goal, dtype=float)
         # first, exactly: every single-joint interval window is a slab across the whole joint space,
@@ -221,7 +233,7 @@ class FreeCells:
         for js, ws in self.groups:
             for j in js:
                 slabs = [w for w in ws if w.is_interval and w.joint == j]
-                sep = self._slab(j, slabs, float(a[j]), float(b[j])) if slabs else None
+                sep = self._slab(j, slabs, float(a[j]), float(b[j]), chain) if slabs else None
                 if sep is not None:
                     return sep
         for js, ws in self.groups:
@@ -238,8 +250,8 @@ class FreeCells:
             names = ", ".join(f"q{j + 1}" for j in js)
             return Separation(tuple(j + 1 for j in js), tuple(used), "cells",
                               f"the windows {', '.join(repr(u) for u in used)} cut joints ({names}) into "
-                              f"separate free regions: start ({', '.join(_fmt(a[j]) for j in js)}) and goal "
-                              f"({', '.join(_fmt(b[j]) for j in js)}) lie in different ones")
+                              f"separate free regions: start ({', '.join(_value(chain, j, a[j]) for j in js)}) and "
+                              f"goal ({', '.join(_value(chain, j, b[j]) for j in js)}) lie in different ones")
         return None
 
     def same_cell(self, start, goal) -> bool:

@@ -274,7 +274,7 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
         goal_q, _ = chain.as_batch(goal, "goal")
         goal_q = goal_q[0]
     checker.require_valid(goal_q, "goal")
-    sep = cells.separation(start_q, goal_q)
+    sep = cells.separation(start_q, goal_q, chain=chain)
     if sep is not None:
         status = f"no joint path exists: {sep.reason}"
         if goal_branch is not None and goal_branch.get("start_cell_reason"):

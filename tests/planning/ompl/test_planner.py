@@ -332,8 +332,8 @@ def test_separated_query_is_answered_before_planning():
     goal = np.array([0.4, -0.2, 0.3, -0.2, 0.8, 0.1])
     res = plan(robot, start, goal, ws, time_limit=30.0, seed=0)
     assert not res.success and res.separation is not None
-    assert res.status.startswith("no joint path exists: the wrist window q5 ∈ [-0.05, 0.05] separates start "
-                                 "(q5 = -0.6) and goal (q5 = 0.8)")
+    assert res.status.startswith("no joint path exists: the wrist window q5 ∈ [-0.05 rad, 0.05 rad] separates "
+                                 "start (q5 = -0.6 rad) and goal (q5 = 0.8 rad)")
     assert res.attempts == [res.status]                  # OMPL never ran
     assert res.to_dict()["separation"]["joints"] == [5]
 

@@ -107,7 +107,7 @@ def test_the_iiwa_elbow_slab_separates_at_once():
     assert not in_any_window(ws, np.array([start, goal])).any()
     res = plan(robot, start, goal, ws, seed=0)
     assert not res.success and res.separation.kind == "slab" and res.separation.joints == (4,)
-    assert res.status.startswith("no joint path exists: the elbow window q4 ∈ [-0.05, 0.05] separates")
+    assert res.status.startswith("no joint path exists: the elbow window q4 ∈ [-2.865°, 2.865°] separates")
     assert res.attempts == [res.status]                 # answered before any planning
 
 

@@ -22,7 +22,7 @@ def test_separated_goal_is_refused_with_the_reason(capsys):
                          "0.1", "--margin", "0.05", "--json"], capsys)
     d = json.loads(out)
     assert rc == 1 and not d["success"] and d["separation"]["kind"] == "slab" and d["separation"]["joints"] == [5]
-    assert "q5 ∈ [-0.05, 0.05] separates start (q5 = -0.6) and goal (q5 = 0.8)" in d["status"]
+    assert "q5 ∈ [-0.05 rad, 0.05 rad] separates start (q5 = -0.6 rad) and goal (q5 = 0.8 rad)" in d["status"]
 
 
 def test_goal_pose_takes_the_branch_on_the_start_side(capsys):
