@@ -36,30 +36,21 @@ import numpy as np
 from kin.chain import Chain
 from kin.errors import RmtError
 from kin.ik.numeric import _targets
-from kin.transforms import make_transform, rot_x, rot_z, rotation_error
+from kin.ik.trig import EPS
+from kin.ik.trig import rx as _rx
+from kin.ik.trig import rz as _rz
+from kin.ik.trig import trans as _trans
+from kin.ik.trig import two_angles as _two_angles
+from kin.transforms import rotation_error
 
 __all__ = ["NoClosedFormError", "PieperArm", "analytic_branches", "analytic_ik", "closed_form", "pieper_arm",
            "turn_copies"]
 
-_EPS = 1e-12
+_EPS = EPS
 
 
 class NoClosedFormError(RmtError):
     """The chain has no closed-form IK here (not six revolute joints with a spherical wrist)."""
-
-
-def _rx(a: float) -> np.ndarray:
-    return make_transform(rot_x(a))
-
-
-def _rz(t: float) -> np.ndarray:
-    return make_transform(rot_z(t))
-
-
-def _trans(x: float = 0.0, z: float = 0.0) -> np.ndarray:
-    T = np.eye(4)
-    T[0, 3], T[2, 3] = x, z
-    return T
 
 
 @dataclass(frozen=True)
@@ -142,19 +133,6 @@ def _trig_roots(F, scale: float) -> list[float]:
             t, f0, df = tn, fn, dfn
         out.append(math.atan2(math.sin(t), math.cos(t)))
     return out
-
-
-def _two_angles(a: float, b: float, c: float) -> list[float]:
-    """Solutions of a·cos x + b·sin x = c (none when |c| > √(a² + b²) beyond rounding)."""
-    rho = math.hypot(a, b)
-    if rho < _EPS:
-        return []
-    ratio = c / rho
-    if abs(ratio) > 1 + 1e-9:
-        return []
-    phi = math.atan2(b, a)
-    delta = math.acos(max(-1.0, min(1.0, ratio)))
-    return [phi + delta, phi - delta] if delta > 1e-12 else [phi]
 
 
 def _arm_candidates(arm: PieperArm, W: np.ndarray) -> list[np.ndarray]:

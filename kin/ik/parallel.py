@@ -32,38 +32,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from kin.chain import Chain
-from kin.transforms import make_transform, rot_x, rot_z
+from kin.ik.trig import EPS
+from kin.ik.trig import rx as _rx
+from kin.ik.trig import rz as _rz
+from kin.ik.trig import trans as _trans
+from kin.ik.trig import two_angles as _two_angles
 
 __all__ = ["ParallelArm", "parallel_arm", "parallel_candidates"]
 
-_EPS = 1e-12
-
-
-def _rx(a: float) -> np.ndarray:
-    return make_transform(rot_x(a))
-
-
-def _rz(t: float) -> np.ndarray:
-    return make_transform(rot_z(t))
-
-
-def _trans(x: float = 0.0, z: float = 0.0) -> np.ndarray:
-    T = np.eye(4)
-    T[0, 3], T[2, 3] = x, z
-    return T
-
-
-def _two_angles(a: float, b: float, c: float) -> list[float]:
-    """Solutions of a·cos x + b·sin x = c (the tangent one when |c| is √(a² + b²) within rounding)."""
-    rho = math.hypot(a, b)
-    if rho < _EPS:
-        return []
-    ratio = c / rho
-    if abs(ratio) > 1 + 1e-9:
-        return []
-    phi = math.atan2(b, a)
-    delta = math.acos(max(-1.0, min(1.0, ratio)))
-    return [phi + delta, phi - delta] if delta > 1e-12 else [phi]
+_EPS = EPS
 
 
 @dataclass(frozen=True)

@@ -4,8 +4,6 @@ it with a note on stderr, the Python cell exposes it (``Cell.tcp``, ``Cell.with_
 values are one line naming the file, the table and the range, exit 2."""
 from __future__ import annotations
 
-import contextlib
-import io
 import json
 import math
 
@@ -15,26 +13,7 @@ import pytest
 import kin
 from planning.cell import cell_tcp, load_cell, parse_cell
 from planning.errors import CellError
-from studies.cli import main
-
-
-def run(argv):
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        rc = main(argv)
-    return rc, out.getvalue(), err.getvalue()
-
-
-def _offset(x, y, z, r=0.0, p=0.0, w=0.0) -> np.ndarray:
-    """xyz + fixed-axis roll-pitch-yaw (degrees) → 4×4, plain numpy: Rz(w)·Ry(p)·Rx(r)."""
-    r, p, w = np.radians([r, p, w])
-    Rx = np.array([[1, 0, 0], [0, math.cos(r), -math.sin(r)], [0, math.sin(r), math.cos(r)]])
-    Ry = np.array([[math.cos(p), 0, math.sin(p)], [0, 1, 0], [-math.sin(p), 0, math.cos(p)]])
-    Rz = np.array([[math.cos(w), -math.sin(w), 0], [math.sin(w), math.cos(w), 0], [0, 0, 1]])
-    T = np.eye(4)
-    T[:3, :3], T[:3, 3] = Rz @ Ry @ Rx, [x, y, z]
-    return T
-
+from tests.studies.cli.test_tcp import _offset, run
 
 # the same offset as a cell in mm (the cell's units) and as --tcp on ur5e (its file: m, deg)
 CELL_MM = 'length_unit = "mm"\nangle_unit = "deg"\n[[tool]]\ntcp = [20, -10, 150, 0, 20, 90]\n'
