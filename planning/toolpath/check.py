@@ -1,4 +1,5 @@
-"""Tool-path validation as offline-programming tools do it: continuous IK along the path, checked waypoint by waypoint.
+"""Tool-path validation as offline-programming tools do it: continuous IK along the path, checked waypoint by
+waypoint and segment by segment.
 
 :func:`validate_toolpath` follows a Cartesian :class:`~planning.toolpath.ToolPath` with a continuous
 inverse-kinematics solution and reports, per waypoint, whether the robot can do it:
@@ -20,6 +21,11 @@ inverse-kinematics solution and reports, per waypoint, whether the robot can do 
   configuration is in, the joint speeds the feed needs — q̇_i = (q_i − q_{i−1}) / (t_i − t_{i−1}),
   q̇_0 = 0 — and their ratio to the joints' maximum speeds when known.
 
+* **between waypoints** (:mod:`planning.toolpath.between`): the joint motion from one reachable
+  waypoint to the next — the windows and the σ_min floor along the joint-space segment, densely and
+  by proof, and a sign change of an exact singular factor (a proven crossing of the singular set).
+  A segment problem ranks after its first waypoint's problems and before its second's.
+
 Problem kinds, in the order they rank at one waypoint: ``unreachable``, ``branch_jump``,
 ``limits``, ``window``, ``sigma_min``, ``speed``.  The verdict names the first problem along the
 path, its kind and where it is (index, arc length, time).  Nothing here prints.
@@ -37,6 +43,7 @@ import numpy as np
 from kin.errors import ConfigurationError, RmtError
 from kin.transforms import rotation_error
 from planning.certify.collision import certify_collision
+from planning.toolpath.between import check_segments, singular_factors
 from planning.toolpath.ik import continuous_ik
 from planning.toolpath.model import ToolPath, ToolPathError
 from planning.toolpath.report import KINDS, Problem, ToolPathReport
@@ -73,7 +80,7 @@ def validate_toolpath(robot, toolpath: ToolPath, windows: WindowSet | None = Non
                       branch_seed: int = 0, sigma_min: float | None = None, tol_position: float = 1e-6,
                       tol_orientation: float = 1e-6, max_joint_step=None, max_speed=None,
                       limit_clearance: float = 0.0, mode: str = "auto", max_iter: int = 8,
-                      world=None) -> ToolPathReport:
+                      world=None, factors=None) -> ToolPathReport:
     """Validate ``toolpath`` for ``robot`` (see the module docstring).
 
     Parameters
@@ -95,6 +102,13 @@ def validate_toolpath(robot, toolpath: ToolPath, windows: WindowSet | None = Non
     world : a :class:`planning.collision.CollisionWorld` (the robot in its work cell): every reachable
         waypoint must be clear of it by its margin, and every joint motion between two reachable
         waypoints is proven clear (:func:`planning.certify.collision.certify_collision`).
+    factors : exact singular factors whose sign change between two waypoints is a proven crossing of
+        the singular set (:func:`planning.toolpath.between.singular_factors`); None: looked up when
+        ``sigma_min`` or ``windows`` is given; () : none.
+
+    The joint motions between consecutive waypoints are checked too
+    (:func:`planning.toolpath.between.check_segments`): the windows and the σ_min floor along them,
+    densely and by proof, and sign changes of the exact singular factors.
 
     Returns a :class:`ToolPathReport`.
     """
@@ -187,7 +201,19 @@ def validate_toolpath(robot, toolpath: ToolPath, windows: WindowSet | None = Non
         idx = np.nonzero(flags[k])[0]
         if len(idx) and (first is None or idx[0] < first[0]):
             first = (int(idx[0]), k)
+    # ---- between the waypoints: the joint motions (planning.toolpath.between) ----------------------
+    if factors is None:
+        factors = singular_factors(robot) if (sigma_min is not None or windows is not None) else ()
+    checkable = reachable[:-1] & reachable[1:] & ~jump[1:]
+    clear = reachable & ~flags["window"] & ~flags["sigma_min"]
+    segments, segments_check = check_segments(robot, Q, checkable, clear, windows, sigma_min, factors)
     problem = None
+    if segments and (first is None or segments[0].index < first[0]):
+        sp = segments[0]
+        t_seg = None if toolpath.t is None else float(toolpath.t[sp.index])
+        problem = Problem(sp.index, sp.kind, sp.detail, float(s[sp.index]), t_seg, toolpath.origin(sp.index),
+                          segment=True, s_end=float(s[sp.index + 1]))
+        first = None
     if first is not None:
         i, k = first
         detail = coll_text[i] if k == "collision" else \
@@ -207,7 +233,9 @@ def validate_toolpath(robot, toolpath: ToolPath, windows: WindowSet | None = Non
                           window_names=names, joint_speed=qd, speed_ratio=speed_ratio, joint_step=step, flags=flags,
                           first_problem=problem, thresholds=thresholds, elapsed_s=time.perf_counter() - t0,
                           stats=stats, windows=windows, toolpath=toolpath, clearance=clearance,
-                          collision_check=collision_check)
+                          collision_check=collision_check, segment_problems=segments,
+                          segments_check=segments_check if (sigma_min is not None or windows is not None
+                                                            or factors) else None)
 
 
 def _collisions(world, Q: np.ndarray, reachable: np.ndarray):

@@ -31,16 +31,25 @@ class Problem:
     s: float
     t: float | None
     origin: str = ""
+    #: True: the problem is on the joint motion from waypoint ``index`` to ``index + 1`` (arc length
+    #: ``s`` to ``s_end``), not at a waypoint
+    segment: bool = False
+    s_end: float | None = None
 
     def to_dict(self) -> dict:
         return {"index": self.index, "kind": self.kind, "detail": self.detail, "s": self.s, "t": self.t,
-                "origin": self.origin}
+                "origin": self.origin,
+                "segment": [self.index, self.index + 1] if self.segment else None}
 
     def where(self, total: int | None = None) -> str:
-        """``waypoint i [of N] (s = …, t = …, line/segment …)``."""
-        parts = [f"s = {self.s:.6g} m"] + ([] if self.t is None else [f"t = {self.t:.6g} s"])
+        """``waypoint i [of N] (s = …, t = …, line/segment …)``, or ``the segment from waypoint i to
+        i + 1 [of N] (s = … to … m, …)``."""
+        s = f"s = {self.s:.6g} m" if not self.segment else f"s = {self.s:.6g} to {self.s_end:.6g} m"
+        parts = [s] + ([] if self.t is None else [f"t = {self.t:.6g} s"])
         parts += [self.origin] if self.origin else []
         of = "" if total is None else f" of {total}"
+        if self.segment:
+            return f"the segment from waypoint {self.index} to {self.index + 1}{of} ({', '.join(parts)})"
         return f"waypoint {self.index}{of} ({', '.join(parts)})"
 
 
@@ -83,6 +92,9 @@ class ToolPathReport:
     toolpath: ToolPath | None = field(default=None, repr=False)
     clearance: np.ndarray | None = None      # (N,) m per waypoint (NaN: unreachable); None without a work cell
     collision_check: str | None = None       # "proven" / "sampled" between waypoints; None without a work cell
+    #: problems of the joint motions between consecutive waypoints (planning.toolpath.between), by segment
+    segment_problems: list = field(default_factory=list)
+    segments_check: str | None = None        # how windows and floor were decided between waypoints; None: unchecked
 
     # ---- summary ------------------------------------------------------------------------------
     @property
@@ -98,6 +110,12 @@ class ToolPathReport:
     def counts(self) -> dict[str, int]:
         """Waypoints with each kind of problem."""
         return {k: int(self.flags[k].sum()) for k in KINDS}
+
+    @property
+    def segment_counts(self) -> dict[str, int]:
+        """Segments (between consecutive waypoints) with each kind of problem."""
+        from planning.toolpath.between import SEGMENT_KINDS
+        return {k: sum(p.kind == k for p in self.segment_problems) for k in SEGMENT_KINDS}
 
     def window_name(self, i: int) -> str | None:
         """Name of the window waypoint ``i`` is in, or None."""
@@ -131,8 +149,10 @@ class ToolPathReport:
             return f"VALID: all {N} waypoints reachable, no problem found{extra}"
         p = self.first_problem
         others = ", ".join(f"{k} {c}" for k, c in self.counts.items() if c)
-        return (f"INVALID: first problem at {p.where(N)}: {p.kind} — {p.detail} "
-                f"[waypoints with problems: {others}]")
+        segs = ", ".join(f"{k} {c}" for k, c in self.segment_counts.items() if c)
+        tally = "; ".join(([f"waypoints with problems: {others}"] if others else [])
+                          + ([f"segments with problems: {segs}"] if segs else []))
+        return f"INVALID: first problem at {p.where(N)}: {p.kind} — {p.detail} [{tally}]"
 
     def summary(self) -> dict:
         """JSON-ready summary (SI units; non-finite numbers as None)."""
@@ -148,6 +168,9 @@ class ToolPathReport:
             "waypoints": self.n_waypoints, "reachable": int(reach.sum()),
             "length": float(self.s[-1]), "duration": None if self.t is None else float(self.t[-1]),
             "counts": self.counts,
+            "segment_counts": self.segment_counts, "segments_check": self.segments_check,
+            "segment_problems": [{"segment": [p.index, p.index + 1], "kind": p.kind, "detail": p.detail,
+                                  "check": p.check} for p in self.segment_problems],
             "min_sigma": sig, "min_sigma_index": isig, "min_manipulability": man, "min_manipulability_index": iman,
             "min_limit_margin": lim, "min_limit_margin_index": ilim,
             "max_position_error": float(self.position_error[reach].max()) if reach.any() else None,

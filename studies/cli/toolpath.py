@@ -106,6 +106,10 @@ def report_text(report, robot: kin.Robot, floor: FloorChoice | None = None, wind
                                       f"joint motions between waypoints {d['collision_check']}"))
     counts = ", ".join(f"{k} {v}" for k, v in report.counts.items() if v) or "none"
     rows.append(("problems", counts))
+    if report.segments_check is not None:
+        segs = ", ".join(f"{k} {v}" for k, v in report.segment_counts.items() if v) or "none"
+        rows.append(("between waypoints", f"{segs} (joint motions checked: windows and floor "
+                                          f"{report.segments_check}, sign changes of the exact singular factors)"))
     st = report.stats
     rows.append(("IK", f"{report.elapsed_s:.3g} s; {st.get('fk_jacobian_calls', 0)} FK+J evaluations, "
                        f"{st.get('global_solves', 0)} global solves"))
