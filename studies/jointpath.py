@@ -32,7 +32,7 @@ def path_csv_text(robot, path_si: np.ndarray) -> str:
     """A joint path (M, n) in SI as CSV text in the robot file's units (header q1..qn; values exact
     to the bit)."""
     buf = io.StringIO()
-    w = csv.writer(buf)
+    w = csv.writer(buf, lineterminator="\n")
     w.writerow([f"q{i + 1}" for i in range(robot.n)])
     for row in robot.chain.from_si(np.asarray(path_si, float)):
         w.writerow([repr(float(x)) for x in row])

@@ -84,7 +84,7 @@ def _csv(robot, tr) -> str:
         head += [f"tau{j}" for j in range(1, n + 1)]
         cols.append(tr.tau)
     buf = io.StringIO()
-    w = csv.writer(buf)
+    w = csv.writer(buf, lineterminator="\n")
     w.writerow(head)
     for row in np.hstack(cols):
         w.writerow([repr(float(x)) for x in row])
