@@ -90,9 +90,13 @@ def _candidates(robot, pose, start, seed) -> tuple[list[np.ndarray], int, str]:
         outside += len(cp) == 0
         cands.extend(cp)
     uniq: list[np.ndarray] = []
-    for q in cands:
-        if not any(np.abs(q - u).max() < 1e-6 for u in uniq):
-            uniq.append(q)
+    if cands:                    # duplicates (within 1e-6) dropped, the first kept; one array op per candidate
+        C = np.asarray(cands, dtype=float)
+        keep: list[int] = []
+        for i in range(len(C)):
+            if not keep or np.abs(C[keep] - C[i]).max(axis=1).min() >= 1e-6:
+                keep.append(i)
+        uniq = [C[i] for i in keep]
     return uniq, outside, source
 
 

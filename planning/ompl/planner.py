@@ -37,6 +37,7 @@ import numpy as np
 
 from kin.errors import ConfigurationError
 from planning.certify import PathProof, Separation, free_cells
+from planning.certify.signs import Separator, sign_separation
 from planning.errors import PlanningError
 from planning.ompl.bindings import ob, og, quiet_rng_seed
 from planning.ompl.goals import GoalPoseError, goal_from_pose
@@ -249,7 +250,8 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
     start_q = start_q[0]
     checker = JointSpaceChecker(robot, windows, sigma_min, boxes, motion_step, world)
     checker.require_valid(start_q, "start")
-    cells = free_cells(chain.lower, chain.upper, windows)
+    # the windows' free cells and, under a σ_min floor, the signs of the exact singular factors
+    cells = Separator(free_cells(chain.lower, chain.upper, windows), robot, sigma_min)
     goal_branch = None
     if (goal is None) == (goal_pose is None):
         raise PlanningError("give exactly one of goal (a configuration) or goal_pose (a 4×4 tool pose)")
@@ -274,13 +276,16 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
         goal_q, _ = chain.as_batch(goal, "goal")
         goal_q = goal_q[0]
     checker.require_valid(goal_q, "goal")
-    sep = cells.separation(start_q, goal_q, chain=chain)
-    if sep is not None:
+
+    def separated(sep: Separation) -> PlanResult:
         status = f"no joint path exists: {sep.reason}"
         if goal_branch is not None and goal_branch.get("start_cell_reason"):
             status += f" (the goal pose's valid configurations all lie across it; {goal_branch['start_cell_reason']})"
         return PlanResult(False, np.zeros((0, chain.n)), cls.__name__, time.perf_counter() - t0, math.nan, math.nan,
                           None, status, False, goal_q, [status], separation=sep, goal_branch=goal_branch)
+    sep = cells.cells.separation(start_q, goal_q, chain=chain)
+    if sep is not None:
+        return separated(sep)
 
     straight = np.array([start_q, goal_q])
     # with the native checker every motion the planner keeps is proven and the returned path is checked
@@ -290,6 +295,12 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
     straight_ok = checker.motion_valid(start_q, goal_q) \
         and check_path(robot, straight, windows, sigma_min, check_step_angle, check_step_length, world=world,
                        dense=dense).valid
+    # before searching: a singular factor whose sign differs at the two ends proves no path exists under
+    # the floor — when the factors are at hand (a goal pose looked them up); else only if the search fails
+    # (the analysis costs about a second in a fresh process, more than most searches)
+    sep = None if straight_ok or not cells.factors_ready else sign_separation(cells.factors, start_q, goal_q)
+    if sep is not None:
+        return separated(sep)
     attempts: list[str] = []
     step = checker.motion_step
     for attempt in range(3):
@@ -300,6 +311,9 @@ def plan(robot, start, goal=None, windows=None, *, goal_pose=None, planner: str 
             path, raw, status = _solve(robot, cls, checker, start_q, goal_q, time_limit, seed, objective, simplify,
                                        planner_range)
         if path is None:
+            sep = sign_separation(cells.factors, start_q, goal_q)
+            if sep is not None:                  # the search failed because no path exists: say why
+                return separated(sep)
             attempts.append(f"{status}")
             break
         for cand in ([path, raw] if simplify else [raw]):

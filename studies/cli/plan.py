@@ -170,7 +170,8 @@ def cmd_plan(args, load_robot) -> int:
             if args.out:
                 print(f"wrote {args.out}")
         elif res.separation is not None or res.goal is None:
-            print(res.status)
+            print(res.status + (f"; σ_min floor: {floor.text}" if res.separation is not None
+                                and res.separation.kind == "sign" else ""))
         else:
             print(f"no path found by {res.planner} within {args.time_limit:g} s ({res.status}); σ_min floor: "
                   f"{floor.text}")

@@ -112,10 +112,12 @@ def test_check_path_takes_the_robot_files_floor(capsys, tmp_path):
 
 def test_plan_keeps_the_default_floor(capsys):
     """Across q5 = 0 no path keeps σ_min ≥ 10⁻³ (every path from q5 = −90° to 90° crosses 0): exit 1 by
-    default; --no-singularity-check takes the straight line through the singularity."""
+    default, with that reason (the wrist factor's sign); --no-singularity-check takes the straight line
+    through the singularity."""
     argv = ["plan", "ur5e", "--start", *UR_HOME, "--goal", *UR_ACROSS, "--time-limit", "0.3"]
     rc, out, _ = _cli(argv, capsys)
-    assert rc == 1 and "no path found" in out and "σ_min floor: default floor of ur5e, 0.001 (SI)" in out
+    assert rc == 1 and "no joint path exists: the wrist factor sin(q5)" in out
+    assert "σ_min floor: default floor of ur5e, 0.001 (SI)" in out
     rc, out, _ = _cli([*argv, "--no-singularity-check", "--json"], capsys)
     d = json.loads(out)
     assert rc == 0 and d["success"] and d["sigma_floor"]["source"] == "off"
