@@ -54,7 +54,8 @@ class _Parser(argparse.ArgumentParser):
         self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
     def error(self, message):  # one line, exit 2 (argparse prints usage + message by default)
-        raise UsageError(f"{self.prog}: {message}")
+        # main() prints "rmt: error: …": the top-level parser adds no second "rmt: ", a command's names itself
+        raise UsageError(message if self.prog == "rmt" else f"{self.prog}: {message}")
 
 
 # ---- parser ------------------------------------------------------------------------------------
@@ -83,7 +84,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run one command; returns the exit code (0 ok, 1 a negative answer, 2 bad input, 130 interrupted)."""
     try:
         parser = build_parser()
-        args = parser.parse_args(argv)
+        args, extra = parser.parse_known_args(argv)
+        if extra:        # name the command the arguments were given to (argparse's top level cannot)
+            raise UsageError(f"rmt {args.command}: unrecognized arguments: {' '.join(extra)}")
         return args.func(args)
     except (UsageError, kin.RmtError) as e:
         print(f"rmt: error: {e}", file=sys.stderr)
