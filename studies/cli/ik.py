@@ -13,7 +13,7 @@ import numpy as np
 from studies.cli.common import EXIT_FAIL, EXIT_OK, CliInputError, cell_args, seed, world_from_args
 from studies.cli.frames import frame_arg, frame_name, pose_frame, pose_from_args
 from studies.jsonio import dump
-from studies.units import unit_names
+from studies.units import joint_units, unit_names
 
 __all__ = ["add_commands", "cmd_ik"]
 
@@ -23,7 +23,20 @@ def _near(robot, args) -> np.ndarray | None:
     if args.near is not None and args.q0 is not None:
         raise CliInputError("--near and --q0 say the same thing (the reference configuration): give one")
     raw = args.near if args.near is not None else args.q0
-    return None if raw is None else configuration(robot, raw, "--near" if args.near is not None else "--q0")
+    if raw is None:
+        return None
+    what = "--near" if args.near is not None else "--q0"
+    q = configuration(robot, raw, what)
+    c = robot.chain
+    for j in range(c.n):        # a reference far beyond the limits is a typo, not a branch: limits ± a turn
+        pad = 2 * np.pi if c.revolute_mask[j] else c.upper[j] - c.lower[j]
+        lo, hi = c.lower[j] - pad, c.upper[j] + pad
+        if not lo <= q[j] <= hi:
+            s, u = c.variable_scale[j], joint_units(c)[j]
+            turn = "a turn" if c.revolute_mask[j] else "the joint's range"
+            raise CliInputError(f"{what}: joint {j + 1} = {q[j] / s:.6g} {u} is outside [{lo / s:.6g}, {hi / s:.6g}] "
+                                f"{u} (its limits ± {turn})")
+    return q
 
 
 def _collisions(world, Q) -> list[str | None]:
@@ -78,12 +91,15 @@ def cmd_ik(args, load_robot) -> int:
                                    "collision": h} for q, h in zip(sols, hits)]})
         ok = len(sols) > 0
     else:
+        from kin.ik.turns import nearest_turns
         res = robot.ik(target, seed=args.seed, q0=ref, mode=mode)
         ok = bool(res.success)
-        out.update({"success": ok, "q": c.from_si(res.q).tolist(),
+        # the same pose, each revolute angle the whole-turn copy nearest the reference inside the limits
+        q = nearest_turns(c, res.q, np.zeros(c.n) if ref is None else ref)
+        out.update({"success": ok, "q": c.from_si(q).tolist(),
                     "position_error": res.position_error / c.length_scale,
                     "orientation_error": res.orientation_error / c.angle_scale,
-                    "solutions": [{"q": c.from_si(res.q).tolist(), "collision": _collisions(world, [res.q])[0]}]
+                    "solutions": [{"q": c.from_si(q).tolist(), "collision": _collisions(world, [q])[0]}]
                     if ok else []})
     out["units"] = unit_names(c)
     if args.json:
