@@ -76,7 +76,7 @@ def read_cycle_file(robot, path: str | Path) -> list[tuple[str, np.ndarray, floa
         raise r.fail("move", f"needs 1 to {MAX_MOVES} [[move]] tables, each with path or waypoints")
     moves = []
     for k, m in enumerate(raw):
-        fld = f"move[{k}]"
+        fld = f"move {k + 1}"                # 1-based, as the moves are numbered everywhere
         r.table(m, fld, MOVE_KEYS)
         if ("path" in m) == ("waypoints" in m):
             raise r.fail(fld, "give either path (a joint path CSV) or waypoints (a list of configurations), "
@@ -91,7 +91,8 @@ def read_cycle_file(robot, path: str | Path) -> list[tuple[str, np.ndarray, floa
             if not isinstance(w, list) or not 2 <= len(w) <= 100000:
                 raise r.fail(f"{fld}.waypoints", "must be a list of 2 to 100000 configurations (robot file units, "
                                                  "or state names)")
-            P = np.array([_configuration(r, robot, v, f"{fld}.waypoints[{i}]") for i, v in enumerate(w)])
+            P = np.array([_configuration(r, robot, v, f"{fld}.waypoints, configuration {i + 1}")
+                          for i, v in enumerate(w)])
             name = str(m.get("name", f"move {k + 1}"))
         if "name" in m:
             name = r.string(m["name"], f"{fld}.name")
@@ -129,10 +130,15 @@ def time_cycle(args, robot, vmax, amax, jmax, taumax, use_robot: bool, csv_text)
         write_output(args.csv, csv_text(robot, seq))
     names = c.joint_names()
     rows, leaving = [], []
+    units = joint_units(c)
     for k, ((name, _, _), tr) in enumerate(zip(moves, seq.moves)):
         lo, hi = tr.path.joint_range()
-        out = [names[j] for j in range(robot.n) if lo[j] < c.lower[j] - 1e-12 or hi[j] > c.upper[j] + 1e-12]
-        leaving += [(k, j) for j in out]
+        idx = [j for j in range(robot.n) if lo[j] < c.lower[j] - 1e-12 or hi[j] > c.upper[j] + 1e-12]
+        out = [names[j] for j in idx]
+        label = f"move {k + 1}" if name == f"move {k + 1}" else f"move {k + 1} ({name})"     # named once
+        lo_f, hi_f, lim_lo, lim_hi = c.from_si(lo), c.from_si(hi), c.from_si(c.lower), c.from_si(c.upper)
+        leaving += [f"{label}: the {args.shape} path leaves joint {names[j]}'s limits [{lim_lo[j]:.6g}, "
+                    f"{lim_hi[j]:.6g}]: it spans [{lo_f[j]:.6g}, {hi_f[j]:.6g}] ({units[j]})" for j in idx]
         rows.append({"name": name, "start_s": float(seq.start[k]), "duration_s": tr.duration,
                      "dwell_s": float(seq.dwell[k]), "end_s": float(seq.start[k] + tr.duration + seq.dwell[k]),
                      "samples": len(tr.t), "solver": tr.qp_status, "dense_overshoot": tr.overshoot,
@@ -161,8 +167,10 @@ def time_cycle(args, robot, vmax, amax, jmax, taumax, use_robot: bool, csv_text)
           f"overshoot {max(d['dense_overshoot'] for d in rows):.2e}")
     if args.csv:
         print(f"wrote {args.csv}")
-    for k, j in leaving[:1]:
-        print(f"move {k + 1} ({rows[k]['name']}): the {args.shape} path leaves joint {j}'s limits", file=sys.stderr)
+    for line in leaving:                  # in the report (stdout), and the first as the error (stderr)
+        print(line)
+    for line in leaving[:1]:
+        print(line, file=sys.stderr)
     return EXIT_FAIL if leaving else 0
 
 

@@ -84,20 +84,20 @@ MOVE = "[[move]]\nwaypoints = [[0,-90,90,-90,-90,0], [10,-90,90,-90,-90,0]]"
 
 
 @pytest.mark.parametrize("body, words", [
-    (MOVE + "\ndwell = -1", "move[0].dwell: -1 s is outside"),
-    (MOVE + "\ndwell = nan", "move[0].dwell: must be a finite"),
+    (MOVE + "\ndwell = -1", "move 1.dwell: -1 s is outside"),
+    (MOVE + "\ndwell = nan", "move 1.dwell: must be a finite"),
     (MOVE + "\ndwell = 86401", "one day"),
     (MOVE + "\n[[move]]\n"
      "waypoints = [[11,-90,90,-90,-90,0], [0,-90,90,-90,-90,0]]",
-     "move[1]: starts at joint 1 = 11 deg, not where move 1 ends (10 deg)"),
+     "move 2: starts at joint 1 = 11 deg, not where move 1 ends (10 deg)"),
     ("speed = 2\n" + MOVE, "speed: unknown field; allowed: move"),
-    (MOVE + "\nwait = 1", "move[0].wait: unknown field"),
+    (MOVE + "\nwait = 1", "move 1.wait: unknown field"),
     ("[[move]]\npath = 'a.csv'\nwaypoints = [[0,-90,90,-90,-90,0], [1,-90,90,-90,-90,0]]", "give either path"),
     ("[[move]]\ndwell = 1", "give either path"),
-    ("[[move]]\nwaypoints = ['home', 'hom']", "move[0].waypoints[1]: ur5e has no state named 'hom'; its states"),
-    ("[[move]]\nwaypoints = [[0,-90,90,-90,-90], [1,-90,90,-90,-90,0]]", "move[0].waypoints[0]: must be a list of 6"),
-    ("[[move]]\nwaypoints = ['up', 'up']", "move[0]: does not move"),
-    ("[[move]]\nwaypoints = ['up']", "move[0].waypoints: must be a list of 2"),
+    ("[[move]]\nwaypoints = ['home', 'hom']", "move 1.waypoints, configuration 2: ur5e has no state named 'hom'"),
+    ("[[move]]\nwaypoints = [[0,-90,90,-90,-90], [1,-90,90,-90,-90,0]]", "configuration 1: must be a list of 6"),
+    ("[[move]]\nwaypoints = ['up', 'up']", "move 1: does not move"),
+    ("[[move]]\nwaypoints = ['up']", "move 1.waypoints: must be a list of 2"),
     ("[[move]]\npath = 'none.csv'", "none.csv: no such joint-path file"),
     ("", "move: needs 1 to 1000 [[move]] tables"),
     ("[[move", "not valid TOML"),
@@ -117,3 +117,22 @@ def test_a_cycle_without_accelerations_names_the_option_and_plot_is_refused(tmp_
     assert "--plot applies to one path" in capsys.readouterr().err
     assert main(["time", "ur5e", str(tmp_path / "missing.toml"), "--a-max", A_MAX]) == 2
     assert "no such cycle file" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("name, label", [(None, "move 1"), ("reach", "move 1 (reach)")])
+def test_limit_breach_names_the_move_once_on_stdout_and_stderr(tmp_path, capsys, name, label):
+    """A spline through a configuration at joint 4's upper limit overshoots it (franka_panda, rad):
+    the move is named once ("move 1", or "move 1 (its name)"), on stdout and as the error line."""
+    robot = kin.load_robot("franka_panda")
+    mid = robot.chain.lower + 0.5 * (robot.chain.upper - robot.chain.lower)
+    rows = np.tile(mid, (4, 1))
+    rows[:, 3] = [-1.5, -0.08, -0.08, -1.5]
+    rows[:, 0] = [0.0, 0.01, 0.02, 0.03]
+    wp = ", ".join("[" + ", ".join(repr(float(x)) for x in r) + "]" for r in rows)
+    text = "[[move]]\n" + (f"name = '{name}'\n" if name else "") + f"waypoints = [{wp}]\n"
+    rc = main(["time", "franka_panda", str(_cycle(tmp_path, text)), "--a-max", "10", "--shape", "spline"])
+    out, err = capsys.readouterr()
+    line = [x for x in out.splitlines() if "leaves joint" in x]
+    assert rc == 1 and len(line) == 1 and line[0].startswith(f"{label}: the spline path leaves joint joint4's limits")
+    assert err.strip() == line[0]
+    assert "move 1 (move 1)" not in out + err
