@@ -39,6 +39,22 @@ def _near(robot, args) -> np.ndarray | None:
     return q
 
 
+def _why_none(robot, target, ref) -> str:
+    """Why the closed form has no solution inside the limits: no branch reaches the pose at all, or
+    every branch that does has a joint outside its limits (the nearest branch's first such joint)."""
+    from kin.ik.analytic import analytic_branches
+    c = robot.chain
+    B = analytic_branches(robot, target, q_ref=ref)
+    if not len(B):
+        return "out of reach: no branch of the closed form reaches the pose (whatever the joint limits)"
+    q = B[0]
+    j = int(np.argmax((q < c.lower) | (q > c.upper)))
+    s, u = c.variable_scale[j], joint_units(c)[j]
+    return (f"{len(B)} branch(es) of the closed form reach the pose, each with a joint outside its limits (every "
+            f"whole turn tried): the nearest has joint {j + 1} = {q[j] / s:.6g} {u} outside "
+            f"[{c.lower[j] / s:.6g}, {c.upper[j] / s:.6g}] {u}")
+
+
 def _collisions(world, Q) -> list[str | None]:
     """Per configuration: None when clear in the cell, else which bodies touch."""
     if world is None or not len(Q):
@@ -90,6 +106,8 @@ def cmd_ik(args, load_robot) -> int:
                     "solutions": [{"q": c.from_si(q).tolist(), "distance": float(np.linalg.norm(q - r0)),
                                    "collision": h} for q, h in zip(sols, hits)]})
         ok = len(sols) > 0
+        if not ok:
+            out["reason"] = _why_none(robot, target, r0)
     else:
         from kin.ik.turns import nearest_turns
         res = robot.ik(target, seed=args.seed, q0=ref, mode=mode)
@@ -114,7 +132,7 @@ def _print(c, out: dict, frame: str, near_given: bool, cell: bool) -> None:
     if out["method"] == "closed form":
         sols = out["solutions"]
         if not sols:
-            print(f"NO solution ({frame}): out of reach, or every branch of the closed form is outside the limits")
+            print(f"NO solution ({frame}): {out['reason']}")
             return
         ref = "--near" if near_given else "the zero configuration (--near Q for another)"
         print(f"{len(sols)} solution(s) by the closed form ({frame}), nearest to {ref} first; "
