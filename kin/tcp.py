@@ -32,7 +32,9 @@ def tcp_transform(values, length_unit: str = "m", angle_unit: str = "rad", what:
     try:
         v = [float(x) for x in values]
     except (TypeError, ValueError):
-        raise ArgumentError(f"{what}: expected 3 or 6 numbers (x y z [roll pitch yaw]), got {values!r}") from None
+        items = list(values) if isinstance(values, (list, tuple)) else [values]
+        plain = " ".join(str(x) for x in items)           # as typed, not a Python repr
+        raise ArgumentError(f"{what}: expected 3 or 6 numbers (x y z [roll pitch yaw]), got {plain}") from None
     if len(v) not in (3, 6):
         raise ArgumentError(f"{what}: expected 3 or 6 numbers (x y z [roll pitch yaw]), got {len(v)}")
     ls, as_ = LENGTH_UNITS[length_unit], ANGLE_UNITS[angle_unit]

@@ -53,3 +53,10 @@ def test_ik_no_solution_says_every_branch_is_outside_the_limits(capsys, tmp_path
     assert code == 1, out
     assert "branch(es) of the closed form reach the pose, each with a joint outside its limits" in out
     assert "joint 5 = " in out and "outside [70, 80] deg" in out
+
+
+def test_bad_tcp_values_are_printed_plainly(capsys):
+    code = main(["fk", "puma560", "0", "0", "0", "0", "0", "0", "--tcp", "a", "b", "c"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2
+    assert err == "rmt: error: --tcp: expected 3 or 6 numbers (x y z [roll pitch yaw]), got a b c"
