@@ -34,13 +34,18 @@ _CACHE: dict[int, tuple[weakref.ref, tuple]] = {}
 
 def floor_factors(robot) -> tuple:
     """The exact singular factors of ``robot`` whose zero sets are singular (σ_min = 0 at the points
-    the analysis samples on them); () when the analysis is not exact.  Computed once per robot object."""
+    the analysis samples on them); () when the Jacobian is not square (no det J) or the analysis is not
+    exact.  Computed once per robot object."""
     hit = _CACHE.get(id(robot))
     if hit is not None and hit[0]() is robot:
         return hit[1]
-    from kin.singular import analyse_singularities
-    analysis = analyse_singularities(robot, samples=_SAMPLES)
     factors = ()
+    # det J exists only for a square Jacobian (a redundant arm's exact analysis would run into its budget);
+    # the numeric fallback proves nothing here, so it gets no time
+    analysis = None
+    if robot.chain.n == len(robot.task_rows):
+        from kin.singular import analyse_singularities
+        analysis = analyse_singularities(robot, samples=_SAMPLES, numeric_time=0.1)
     if getattr(analysis, "method", None) == "exact":
         keep = []
         for f in analysis.factors:

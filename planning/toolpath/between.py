@@ -26,15 +26,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planning.certify.signs import floor_factors
 from planning.validate import check_path
 
 __all__ = ["SEGMENT_KINDS", "SegmentProblem", "check_segments", "singular_factors"]
 
 #: problem kinds of a segment, in the order they rank on one segment
 SEGMENT_KINDS = ("singular_crossing", "window", "sigma_min")
-#: points sampled on each factor's zero set to confirm σ_min vanishes there; σ_min below _ZERO is zero
-_SAMPLES = 20
-_ZERO = 1e-9
 #: segments checked by one call of check_path (a failure restarts after it: the work stays linear)
 _BLOCK = 64
 
@@ -52,20 +50,9 @@ class SegmentProblem:
 
 
 def singular_factors(robot) -> tuple:
-    """The exact singular factors of ``robot`` whose zero sets are singular; () when the Jacobian is
-    not square (no det J) or the exact analysis does not answer."""
-    if robot.chain.n != len(robot.task_rows):
-        return ()
-    from kin.singular import analyse_singularities
-    analysis = analyse_singularities(robot, samples=_SAMPLES, numeric_time=0.1)
-    if analysis.method != "exact":
-        return ()
-    keep = []
-    for f in analysis.factors:
-        S = np.asarray(f.samples, dtype=float)
-        if S.ndim == 2 and len(S) and float(np.max(robot.sigma_min(S))) < _ZERO:
-            keep.append(f)
-    return tuple(keep)
+    """The exact singular factors of ``robot`` whose zero sets are singular
+    (:func:`planning.certify.signs.floor_factors`)."""
+    return floor_factors(robot)
 
 
 def _crossings(robot, factors, Q: np.ndarray, ok: np.ndarray) -> dict[int, SegmentProblem]:
