@@ -177,8 +177,10 @@ def _words(cat: str, detail: str) -> str:
 
 
 def _counts(refused: dict) -> str:
-    counts = ", ".join(f"{v} {k}" for k, v in refused.items() if v)
-    return f"; refused: {counts}" if counts else ""
+    """The invalid candidates by reason (the valid ones in another free cell are counted apart, as the
+    complement of those in the start's: they are valid, not refused)."""
+    counts = ", ".join(f"{v} {k}" for k, v in refused.items() if v and k != REASONS[5])
+    return f"; invalid: {counts}" if counts else ""
 
 
 def _deg(robot, q) -> str:
