@@ -11,6 +11,7 @@ import io
 import json
 import math
 import sys
+import unicodedata
 from pathlib import Path
 
 from kin.output import check_output, write_output
@@ -130,8 +131,16 @@ def cmd_reach(args, load_robot) -> int:
     placement = None
     if args.placement is not None:
         import numpy as np
+
+        from design.task.file import MAX_PLACEMENT
         u = np.array(numbers(args.placement, "--placement"))
         placement = np.concatenate([u[:3] * ls, u[3:] * as_])
+        # the bounds of a task's [placement] region (design.task.file): ±10 km, angles within ±2π
+        if np.abs(placement[:3]).max() > MAX_PLACEMENT * (1 + 1e-12) or \
+                np.abs(placement[3:]).max() > 2 * np.pi * (1 + 1e-12):
+            raise CliInputError(f"--placement: x y z must lie within ±{MAX_PLACEMENT / ls:g} {task.length_unit} "
+                                f"(10 km) and roll pitch yaw within ±{2 * np.pi / as_:g} {task.angle_unit} (a full "
+                                f"turn), as a task's [placement]; got {' '.join(args.placement)}")
     try:
         given = {} if args.weights is None else dict(zip(("dexterity", "clearance", "limits"), args.weights))
         if args.clearance_ref is not None:
@@ -202,8 +211,13 @@ def cmd_reach_compare(args, load_robot) -> int:
     if labels[0] == labels[1]:
         labels = (labels[0] + " (a)", labels[1] + " (b)")
     for lab in labels:
+        what = "--labels" if args.labels else "the label made of the file name (give --labels)"
         if not lab.strip() or len(lab) > 80:
-            raise CliInputError(f"--labels: {lab!r} must be 1–80 characters")
+            raise CliInputError(f"{what}: {lab!r} must be 1–80 characters")
+        bad = next((c for c in lab if unicodedata.category(c) in ("Cc", "Cf", "Cs", "Co", "Cn", "Zl", "Zp")), None)
+        if bad is not None:      # a newline would start a line of its own in the output (a forged 'rmt: error:')
+            raise CliInputError(f"{what}: {lab!r} holds the control character U+{ord(bad):04X}; allowed: 1–80 "
+                                "printable characters")
     cmp = compare_studies(a, b, labels)
     lu = da.get("length_unit", "m")
     from kin.chain import LENGTH_UNITS
