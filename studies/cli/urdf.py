@@ -10,12 +10,53 @@ from studies.jsonio import dump
 
 
 def _out_path(out: str, suffix: str) -> Path:
+    """``--out``, checked before any work as every command's is (:func:`kin.output.check_output`:
+    a regular file or nothing; missing parent directories are made when it is written)."""
+    from kin.output import check_output
     path = Path(out)
     if path.suffix != suffix:
         raise CliInputError(f"--out {out!r} must end in {suffix}")
-    if not path.parent.is_dir():
-        raise CliInputError(f"--out {out!r}: directory {str(path.parent)!r} does not exist")
-    return path
+    return check_output(path)
+
+
+def _save_checked(chain, out: Path, urdf: str) -> Path:
+    """Write ``chain`` to ``out`` only as a file the robot-file reader loads: the text goes to a hidden
+    sibling (:func:`kin.output.write_output`: parents made), is read back with :func:`kin.load_chain`
+    and must give the same chain, then is renamed to ``out``.  On a refusal nothing is left behind —
+    neither the sibling nor a directory made for it — and one :class:`kin.urdf.UrdfError` names the
+    URDF and the field."""
+    import os
+    import secrets
+
+    import kin
+    from kin.errors import RobotFileError
+    from kin.output import check_output, write_output
+    from kin.robotfile import dumps_robot
+    from kin.urdf import UrdfError
+
+    made = [d for d in (out.parent, *out.parent.parents) if not d.exists()]
+    tmp = out.parent / f".{out.stem}.{secrets.token_hex(4)}.check{out.suffix}"
+    try:
+        write_output(tmp, dumps_robot(chain))
+        try:
+            back = kin.load_chain(tmp)
+        except RobotFileError as e:
+            raise UrdfError(f"the robot file made of it is refused by the robot-file reader ({e.field or 'the file'}: "
+                            f"{str(e).rsplit(': ', 1)[-1]}); nothing written; please report this URDF", urdf) from None
+        if back != chain:
+            raise UrdfError("the robot file made of it reads back as another robot; nothing written; please report "
+                            "this URDF", urdf)
+        check_output(out)                   # the target may have changed meanwhile
+        os.replace(tmp, out)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+            for d in made:                  # innermost first; only the (empty) directories made here
+                try:
+                    d.rmdir()
+                except OSError:
+                    break
+    return out
 
 
 def _packages(items) -> dict[str, str]:
@@ -34,7 +75,6 @@ def cmd_import_urdf(args, load_robot) -> int:
     import sys
     import warnings
 
-    import kin
     from kin.urdf import UrdfWarning, chain_from_serial, read_serial_chain
     from studies.cli.progress import TerminalProgress
 
@@ -50,7 +90,7 @@ def cmd_import_urdf(args, load_robot) -> int:
     notes = [str(w.message) for w in caught if issubclass(w.category, UrdfWarning)]
     for note in notes:
         print(f"rmt: warning: {note}", file=sys.stderr)
-    kin.save_robot(chain, out)
+    _save_checked(chain, out, args.file)
     g = chain.geometry
     if args.json:
         print(dump({"out": str(out), "name": chain.name, "joints": chain.n, "types": list(chain.joint_types),
