@@ -40,6 +40,7 @@ import time
 
 import numpy as np
 
+from planning.timing.grid import MIN_INTERVALS_PER_PIECE, default_grid
 from planning.timing.jerk import jerk_limit
 from planning.timing.limits import _limits, dense_ratios
 from planning.timing.qp import solve_qp
@@ -51,11 +52,16 @@ from planning.timing.stages import build_stages, sample_profile
 from planning.timing.torque import BUDGET, ROUNDS, TOL, dense_torque, path_model, tighten, torque_limits, torque_rows
 from planning.timing.trajectory import TimedTrajectory, TimingError
 
-__all__ = ["time_parameterize", "DEFAULT_INTERVALS", "MAX_INTERVALS", "QP_MAX_INTERVALS", "METHODS", "SHAPES",
+__all__ = ["time_parameterize", "DEFAULT_INTERVALS", "MIN_INTERVALS_PER_PIECE", "MAX_INTERVALS", "QP_MAX_INTERVALS",
+           "DEFAULT_BUDGET", "METHODS", "SHAPES",
            "SPLINE_INTERVALS_PER_SPAN"]
 
 #: default grid: this many intervals over the whole path (plus every piece boundary)
 DEFAULT_INTERVALS = 300
+#: largest default grid of the reachability passes: the uniform grid refined so that every piece of the path
+#: has at least :data:`~planning.timing.grid.MIN_INTERVALS_PER_PIECE` intervals (:func:`~planning.timing.grid.
+#: default_grid`; fewer per piece when more would not fit, the uniform grid when not even one would)
+DEFAULT_BUDGET = 20_000
 #: largest grid of the reachability passes (O(K) work and memory)
 MAX_INTERVALS = 100_000
 #: largest grid of ``method="qp"`` and of the jerk pass (one variable per grid point; OSQP's first-order
@@ -84,7 +90,10 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
         waypoint of :func:`planning.timing.spline.spline_path` (``blend`` and ``simplify`` unused).
     v_max, a_max : per-joint speed and acceleration limits, scalars or (n,) arrays, > 0.
     ds : grid step in s (joint-space arc length); None: path length / :data:`DEFAULT_INTERVALS` (blends),
-        or :data:`SPLINE_INTERVALS_PER_SPAN` intervals per span between waypoints (spline).
+        or :data:`SPLINE_INTERVALS_PER_SPAN` intervals per span between waypoints (spline), with every
+        piece (segment, blend, span) holding fewer than :data:`MIN_INTERVALS_PER_PIECE` intervals divided
+        into that many, within :data:`DEFAULT_BUDGET` intervals in all (:data:`QP_MAX_INTERVALS` with
+        ``j_max`` or ``method="qp"``; :func:`planning.timing.grid.default_grid`).
         The constraints are imposed at the grid points and at every piece boundary (both sides).
     blend : corner blend half-length r (rad or m, joint-space distance); 0: stop at every corner.
     simplify : waypoint thinning tolerance (rad or m; 0: off), see :func:`blend_path`.
@@ -135,15 +144,17 @@ def time_parameterize(path, v_max, a_max, ds: float | None = None, blend: float 
                                                                * (len(bp.waypoints) - 1))
         if jmax is not None or method == "qp":
             K = min(K, QP_MAX_INTERVALS)
+        grid = default_grid(bp, K, DEFAULT_BUDGET if method == "reach" and jmax is None else QP_MAX_INTERVALS)
     else:
         if not (isinstance(ds, (int, float, np.floating, np.integer)) and math.isfinite(ds) and ds > 0):
             raise TimingError(f"ds = {ds!r} must be a positive finite grid step (rad or m of path length)")
         K = max(1, int(math.ceil(bp.length / ds - 1e-9)))
+        grid = None
         most = MAX_INTERVALS if method == "reach" and jmax is None else QP_MAX_INTERVALS
         if K > most:
             raise TimingError(f"ds = {ds:g} gives {K} grid intervals; at most {most} with method={method!r}"
                               f"{' and j_max' if jmax is not None else ''} (choose a larger ds)")
-    st = build_stages(bp, K, vmax, amax, full_mvc=(method == "qp"))
+    st = build_stages(bp, K, vmax, amax, full_mvc=(method == "qp"), grid=grid)
     if robot is None:
         return _finish(_solve(st, method, backend, jmax, bp), st, bp, vmax, amax, jmax, method)
     tm = None if tmax is None else path_model(robot, st, bp, tmax)

@@ -170,8 +170,10 @@ def test_against_toppra_joint_torque_constraint():
     robot = kin.load_robot("franka_panda")
     W = panda_path()
     tmax = 0.6 * PANDA_TAU
-    tr = time_parameterize(W, PANDA_V, PANDA_A, robot=robot, tau_max=tmax, blend=0.05, ds=None)
     bp = blend_path(W, 0.05)
+    # a uniform grid of 300 intervals (the default grid refines the blends, where toppra's interpolation
+    # scheme is then the more conservative one): the comparison is of the torque rows on one grid
+    tr = time_parameterize(W, PANDA_V, PANDA_A, robot=robot, tau_max=tmax, blend=0.05, ds=bp.length / 300)
     cons = [toppra.constraint.JointVelocityConstraint(np.c_[-PANDA_V, PANDA_V]),
             toppra.constraint.JointAccelerationConstraint(np.c_[-PANDA_A, PANDA_A]),
             toppra.constraint.JointTorqueConstraint(robot.inverse_dynamics, np.c_[-tmax, tmax], np.zeros(7))]
@@ -202,8 +204,9 @@ def test_a_greedy_stop_mid_path_is_repaired():
     duration on the same grid."""
     robot = kin.load_robot("franka_panda")
     W = panda_path()
-    tr = time_parameterize(W, PANDA_V, PANDA_A, robot=robot, tau_max=0.6 * PANDA_TAU)
-    qp = time_parameterize(W, PANDA_V, PANDA_A, robot=robot, tau_max=0.6 * PANDA_TAU, method="qp")
+    ds = blend_path(W, 0.05).length / 300          # the uniform grid the stop was found on
+    tr = time_parameterize(W, PANDA_V, PANDA_A, robot=robot, tau_max=0.6 * PANDA_TAU, ds=ds)
+    qp = time_parameterize(W, PANDA_V, PANDA_A, robot=robot, tau_max=0.6 * PANDA_TAU, method="qp", ds=ds)
     assert np.min(tr.sd[1:-1]) > 0.1 and "mid-path repaired" in tr.qp_status
     assert tr.duration <= qp.duration * (1 + 2e-3)
     assert tr.max_torque_ratio <= 1 + 1e-6
