@@ -16,13 +16,15 @@ import numpy as np
 from design.cycle.masses import MAX_MASS_PER_LENGTH, MAX_PART_MASS, LinkMasses
 from design.cycle.model import MAX_STOPS, TORQUE_MODES, CycleSpec
 from design.task.model import TaskError
+from planning.timing.limits import LIMIT_RANGE
 
-__all__ = ["read_cycle", "CYCLE_KEYS", "MASS_KEYS", "MAX_LIMIT"]
+__all__ = ["read_cycle", "CYCLE_KEYS", "MASS_KEYS", "MIN_LIMIT", "MAX_LIMIT"]
 
 CYCLE_KEYS = ("sequence", "v_max", "a_max", "tau_max", "torque", "lift", "dwell", "blend", "ik_starts", "masses")
 MASS_KEYS = ("mass_per_length", "motor_mass", "rotor_inertia", "payload")
-#: the largest speed, acceleration (SI) or torque a cycle limit may have
-MAX_LIMIT = 1e7
+#: the smallest and largest speed, acceleration (file units) or torque a cycle limit may have: the range
+#: ``rmt time`` checks too (planning.timing.limits.LIMIT_RANGE)
+MIN_LIMIT, MAX_LIMIT = LIMIT_RANGE
 
 
 def _per_joint(r, raw: Any, field: str, n: int, scale: np.ndarray, lo: float, hi: float, strict: bool) -> np.ndarray:
@@ -61,7 +63,7 @@ def read_cycle(r, raw: Any, robot, targets, ls: float, as_: float) -> CycleSpec:
     lims = {}
     for key, attr, word in (("v_max", "max_velocity", "speed"), ("a_max", "max_acceleration", "acceleration")):
         if key in raw:
-            lims[key] = _per_joint(r, raw[key], f"cycle.{key}", n, unit, 0.0, MAX_LIMIT, True)
+            lims[key] = _per_joint(r, raw[key], f"cycle.{key}", n, unit, MIN_LIMIT, MAX_LIMIT, False)
         else:
             got = _from_robot(chain, attr)
             if got is None:
@@ -69,7 +71,7 @@ def read_cycle(r, raw: Any, robot, targets, ls: float, as_: float) -> CycleSpec:
                                              f"cycle needs its joint {word} limits")
             lims[key] = got
     if "tau_max" in raw:
-        tau = _per_joint(r, raw["tau_max"], "cycle.tau_max", n, np.ones(n), 0.0, MAX_LIMIT, True)
+        tau = _per_joint(r, raw["tau_max"], "cycle.tau_max", n, np.ones(n), MIN_LIMIT, MAX_LIMIT, False)
     else:
         got = [j.max_torque for j in chain.joints]
         tau = np.array([math.nan if v is None else float(v) for v in got])

@@ -13,7 +13,23 @@ import numpy as np
 
 from planning.timing.trajectory import TimedTrajectory, TimingError
 
-__all__ = ["check_limits", "LimitCheck", "dense_ratios", "dense_times"]
+__all__ = ["check_limits", "LimitCheck", "dense_ratios", "dense_times", "LIMIT_RANGE", "limit_out_of_range"]
+
+#: the allowed range of every speed, acceleration, jerk and torque limit a user gives — ``rmt time``'s
+#: ``--v-max``/``--a-max``/``--j-max``/``--tau-max`` and a task's ``[cycle]`` ``v_max``/``a_max``/``tau_max``
+#: — in the file's units (angle or length unit per s, s², s³; N·m or N): finite, and wide enough for any
+#: machine while v², a·s and their quotients stay far from floating-point underflow and overflow
+#: (1e-300 would make v² vanish, 1e308 overflow)
+LIMIT_RANGE = (1e-6, 1e7)
+
+
+def limit_out_of_range(values) -> int | None:
+    """Index of the first value outside :data:`LIMIT_RANGE` (or not finite), None when all are inside."""
+    lo, hi = LIMIT_RANGE
+    for k, x in enumerate(np.atleast_1d(np.asarray(values, dtype=float))):
+        if not (lo <= x <= hi):
+            return k
+    return None
 
 
 @dataclass(frozen=True)

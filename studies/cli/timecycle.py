@@ -56,6 +56,7 @@ def read_cycle_file(robot, path: str | Path) -> list[tuple[str, np.ndarray, floa
     file and the field."""
     from planning.timing.sequence import JOIN_TOLERANCE, MAX_DWELL, MAX_MOVES, join_gap
     from studies.cli.plan import read_path_csv
+    from studies.cli.timing import require_within_limits
 
     path = Path(path)
     r = _Reader(str(path))
@@ -85,6 +86,7 @@ def read_cycle_file(robot, path: str | Path) -> list[tuple[str, np.ndarray, floa
             csv_path = Path(r.string(m["path"], f"{fld}.path"))
             csv_path = csv_path if csv_path.is_absolute() else path.parent / csv_path
             P = read_path_csv(robot, csv_path)
+            require_within_limits(robot, P, lambda i: f"{csv_path} ({path}, {fld}.path): data row {i + 1}")
             name = str(m.get("name", csv_path.name))
         else:
             w = m["waypoints"]
@@ -93,6 +95,7 @@ def read_cycle_file(robot, path: str | Path) -> list[tuple[str, np.ndarray, floa
                                                  "or state names)")
             P = np.array([_configuration(r, robot, v, f"{fld}.waypoints, configuration {i + 1}")
                           for i, v in enumerate(w)])
+            require_within_limits(robot, P, lambda i: f"{path}: {fld}.waypoints, configuration {i + 1}")
             name = str(m.get("name", f"move {k + 1}"))
         if "name" in m:
             name = r.string(m["name"], f"{fld}.name")

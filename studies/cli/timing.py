@@ -31,6 +31,10 @@ from studies.units import joint_units
 #: the path shapes of planning.timing.time_parameterize (``SHAPES``; not imported here: ``rmt --help``
 #: must not load scipy or CasADi)
 SHAPES = ("blend", "spline")
+#: the unit of each limit option (its values must lie in planning.timing.limits.LIMIT_RANGE, as a task's
+#: ``[cycle]`` limits)
+LIMIT_UNITS = {"--v-max": "robot file units/s", "--a-max": "robot file units/s²", "--j-max": "robot file units/s³",
+               "--tau-max": "N·m or N"}
 #: largest joint-space distance (rad or m) between the shaped path and the polyline ``--path-out`` writes
 SHAPED_TOLERANCE = 1e-4
 
@@ -49,9 +53,30 @@ def _per_joint(robot, raw, what: str, unit_power: int, default_attr: str | None)
         raise CliInputError(f"{what}: got {len(v)} values; give one for every joint or {robot.n} "
                             f"(one per joint of {robot.name})")
     arr = np.full(robot.n, v[0]) if len(v) == 1 else np.array(v)
-    if not np.all(arr > 0):
-        raise CliInputError(f"{what}: every value must be > 0")
+    from planning.timing.limits import LIMIT_RANGE, limit_out_of_range
+    k = limit_out_of_range(arr)
+    if k is not None:
+        unit = LIMIT_UNITS[what]
+        which = "" if len(v) == 1 else f" (joint {c.joint_names()[k]})"
+        raise CliInputError(f"{what}: {v[0 if len(v) == 1 else k]:g}{which} is outside the allowed range "
+                            f"[{LIMIT_RANGE[0]:g}, {LIMIT_RANGE[1]:g}] ({unit})")
     return arr if unit_power == 0 else c.to_si(arr)
+
+
+def require_within_limits(robot, P: np.ndarray, where) -> None:
+    """Refuse a path (M, n) SI with a joint value outside the robot's limits (1e-12 SI of slack): one line
+    naming ``where(i)`` (i the 0-based index of the configuration: e.g. "P.csv: data row 3"), the joint, its value and
+    the allowed range in robot file units.  Beyond the limits a path's length can overflow and its time
+    vanish (1e300 rad: "zero-length path")."""
+    c = robot.chain
+    bad = (P < c.lower[None, :] - 1e-12) | (P > c.upper[None, :] + 1e-12)
+    if not bad.any():
+        return
+    i, j = (int(x) for x in np.argwhere(bad)[0])
+    u = joint_units(c)[j]
+    lo, hi, q = c.from_si(c.lower)[j], c.from_si(c.upper)[j], c.from_si(P[i])[j]
+    raise CliInputError(f"{where(i)}: joint {c.joint_names()[j]} = {q:.10g} {u} is outside its limits "
+                        f"[{lo:.10g}, {hi:.10g}] {u} ({robot.name})")
 
 
 def limits_or_defaults(robot, v_raw, a_raw) -> tuple[np.ndarray, np.ndarray]:
@@ -107,6 +132,8 @@ def cmd_time(args, load_robot) -> int:
     jmax = _per_joint(robot, args.j_max, "--j-max", 1, None)
     taumax = _per_joint(robot, args.tau_max, "--tau-max", 0, None)
     use_robot = taumax is not None or has_inertia(c)
+    if P is not None:                     # after the options' one-line errors
+        require_within_limits(robot, P, lambda i: f"{args.path}: data row {i + 1}")
     if cycle:
         return time_cycle(args, robot, vmax, amax, jmax, taumax, use_robot, _csv)
     tr = time_parameterize(P, vmax, amax, ds=args.ds, blend=args.blend, j_max=jmax,
