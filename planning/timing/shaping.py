@@ -31,15 +31,24 @@ __all__ = ["blend_path", "simplify_path"]
 
 
 def simplify_path(path, tolerance: float) -> np.ndarray:
-    """Ramer–Douglas–Peucker in joint space: the fewest waypoints (a subset, ends kept) such that every
-    dropped waypoint lies within ``tolerance`` (rad or m, Euclidean) of the simplified polyline.  The
+    """Ramer–Douglas–Peucker in joint space: the fewest waypoints (a subset, ends and reversals kept)
+    such that every dropped waypoint lies within ``tolerance`` (rad or m, Euclidean) of the simplified
+    polyline.  The
     ranges still to split are processed together, one numpy pass per level of the recursion."""
     W = np.asarray(path, dtype=float)
     if len(W) <= 2 or tolerance <= 0:
         return W.copy()
     keep = np.zeros(len(W), bool)
     keep[0] = keep[-1] = True
-    lo, hi = np.array([0]), np.array([len(W) - 1])
+    # a reversal (the path turns back by more than 90° between steps longer than the tolerance) is
+    # kept: the classic distance test would drop a point lying on the chord it came along, and a
+    # zig-zag back and forth along one line would collapse to a single segment
+    step = np.diff(W, axis=0)
+    long_ = np.linalg.norm(step, axis=1) > tolerance
+    turn = np.einsum("ij,ij->i", step[:-1], step[1:]) < 0
+    keep[1:-1] |= turn & long_[:-1] & long_[1:]
+    at = np.flatnonzero(keep)
+    lo, hi = at[:-1], at[1:]
     while len(lo):
         lens = hi - lo - 1
         inner = lens > 0

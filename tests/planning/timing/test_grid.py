@@ -60,3 +60,13 @@ def test_the_budget_bounds_the_refinement():
     assert len(s) - 1 <= DEFAULT_INTERVALS + 4 * 199
     assert np.all(np.isin(np.r_[bp.s0, bp.length], s))          # every piece boundary a grid point
     assert default_grid(bp, DEFAULT_INTERVALS, DEFAULT_INTERVALS + 100) is None   # not even one per piece
+
+
+def test_a_zigzag_back_and_forth_along_one_line_is_not_thinned_away():
+    """0, 0.5, 0, 0.5 … on one joint: every interior waypoint lies on the chord, and the distance test
+    of the thinning dropped them all (1.41 s for 199 moves); reversals are kept."""
+    W = np.array([(0.5 * (i % 2), 0.0) for i in range(200)])
+    exact = 199 * rest_to_rest(0.5, 10.0, 1.0)
+    tr = time_parameterize(W, 10.0, 1.0, blend=0.0)
+    assert len(tr.path.waypoints) == 200
+    assert exact <= tr.duration <= 1.01 * exact
