@@ -73,6 +73,10 @@ def bundled_robots() -> list[str]:
     return sorted(p.stem for p in ROBOT_DIR.glob("*.toml"))
 
 
+#: a robot file may have at most this many bytes (the largest bundled one has a few kB)
+MAX_ROBOT_BYTES = 10 * 2**20
+
+
 def robot_path(name_or_path: str | Path) -> Path:
     """Resolve a bundled robot name or a file path to an existing file path."""
     p = Path(name_or_path)
@@ -89,11 +93,12 @@ def robot_path(name_or_path: str | Path) -> Path:
 
 def load_chain(name_or_path: str | Path) -> Chain:
     """Load a bundled robot by name, or a robot file by path, into a :class:`Chain` (SI units)."""
+    from kin.files import FileReadError, read_text
     path = robot_path(name_or_path)
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as e:
-        raise RobotFileError(f"cannot read file ({e})", str(path)) from None
+        text = read_text(path, "robot file", MAX_ROBOT_BYTES)
+    except FileReadError as e:
+        raise RobotFileError(e.reason, str(path)) from None
     return loads_robot(text, str(path))
 
 

@@ -83,11 +83,13 @@ class _SweepReader(_Reader):
 
 def load_sweep(path: str | Path) -> Sweep:
     """Read a sweep file; its ``task`` is a path relative to the sweep file's folder."""
+    from design.task.file import MAX_TASK_BYTES
+    from kin.files import FileReadError, read_text
     p = Path(path)
     try:
-        text = p.read_text()
-    except OSError as e:
-        raise SweepError(f"cannot read sweep file: {e.strerror or e}", str(p)) from None
+        text = read_text(p, "sweep file", MAX_TASK_BYTES)
+    except FileReadError as e:
+        raise SweepError(e.reason, str(p)) from None
     return loads_sweep(text, str(p), p.parent)
 
 

@@ -32,6 +32,8 @@ _ORIENT = ("orientation", "axis", "half_angle", "rpy", "tolerance", "shape")
 PLACEMENT_KEYS = ("x", "y", "z", "yaw", "tilt", "keep_out")
 #: placement coordinates and keep-out corners lie within ±this (m), as :class:`design.place.PlacementRegion`'s
 MAX_PLACEMENT = 1e4
+#: a task (or sweep) file may have at most this many bytes
+MAX_TASK_BYTES = 10 * 2**20
 
 
 class _Reader(robotfile._Reader):
@@ -68,11 +70,12 @@ class _Reader(robotfile._Reader):
 def load_task(path: str | Path, robot: kin.Robot | None = None) -> Task:
     """Read a task file; relative file names in it are relative to the task file's folder.
     ``robot`` overrides the file's ``robot`` entry (used by the architecture enumeration)."""
+    from kin.files import FileReadError, read_text
     p = Path(path)
     try:
-        text = p.read_text()
-    except OSError as e:
-        raise TaskError(f"cannot read task file: {e.strerror or e}", str(p)) from None
+        text = read_text(p, "task file", MAX_TASK_BYTES)
+    except FileReadError as e:
+        raise TaskError(e.reason, str(p)) from None
     return loads_task(text, str(p), p.parent, robot)
 
 

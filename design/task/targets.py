@@ -13,6 +13,9 @@ import numpy as np
 
 from design.task.model import TaskError
 
+#: a points CSV may have at most this many bytes (200 000 targets of six columns need about 20 MB)
+MAX_POINTS_BYTES = 50 * 2**20
+
 __all__ = ["box_points", "ring_points", "shell_points", "read_points_csv", "axis_frames", "orientation_variants"]
 
 
@@ -52,10 +55,11 @@ def shell_points(center, r_inner: float, r_outer: float, count) -> np.ndarray:
 
 def read_points_csv(path: Path, scale: float) -> tuple[np.ndarray, np.ndarray | None]:
     """Points CSV (header optional; columns x, y, z and optionally ax, ay, az) → (positions m, axes or None)."""
+    from kin.files import FileReadError, read_text
     try:
-        text = path.read_text()
-    except OSError as e:
-        raise TaskError(f"cannot read points file: {e.strerror}", str(path)) from None
+        text = read_text(path, "points file", MAX_POINTS_BYTES)
+    except FileReadError as e:
+        raise TaskError(e.reason, str(path)) from None
     rows = []
     for ln, row in enumerate(csv.reader(text.splitlines()), 1):
         if not row or not "".join(row).strip() or row[0].lstrip().startswith("#"):

@@ -28,21 +28,12 @@ _PLY_HEADER_BYTES = 64 * 1024
 
 def read_bytes(path: Path, label: str, what: str) -> bytes:
     """The bytes of ``path``, at most :data:`MAX_FILE_BYTES`; ``what`` names the kind of file."""
+    from kin.files import FileReadError
+    from kin.files import read_bytes as bounded_bytes
     try:
-        size = path.stat().st_size
-    except FileNotFoundError:
-        raise CellError(f"{label}: no such {what} file {str(path)!r}") from None
-    except OSError as e:
-        raise CellError(f"{label}: cannot read {str(path)!r} ({e.strerror or e})") from None
-    if not path.is_file():
-        raise CellError(f"{label}: {str(path)!r} is not a file")
-    if size > MAX_FILE_BYTES:
-        raise CellError(f"{label}: {path.name} is {size / 2**20:.1f} MB; a {what} file may have at most "
-                        f"{MAX_FILE_BYTES // 2**20} MB")
-    try:
-        return path.read_bytes()
-    except OSError as e:
-        raise CellError(f"{label}: cannot read {str(path)!r} ({e.strerror or e})") from None
+        return bounded_bytes(path, f"{what} file", MAX_FILE_BYTES)
+    except FileReadError as e:
+        raise CellError(f"{label}: {e}") from None
 
 
 def ply_header(data: bytes, label: str, name: str) -> dict[str, int]:

@@ -82,7 +82,7 @@ def _csv(data: bytes, label: str, name: str) -> np.ndarray:
     if rows > MAX_POINTS:
         raise _too_many(label, name, rows)
     try:
-        text = data.decode("utf-8")
+        text = data.decode("utf-8-sig")
     except UnicodeDecodeError:
         raise CellError(f"{label}: {name} is not a text CSV file (not UTF-8)") from None
     lines = text.splitlines()
@@ -95,6 +95,8 @@ def _csv(data: bytes, label: str, name: str) -> np.ndarray:
         if len(fields) != 3:
             raise CellError(f"{label}: {name}: line {first + 1}: expected three columns x,y,z")
         skip = first + 1
+        if not any(ln.strip() and not ln.lstrip().startswith("#") for ln in lines[skip:]):
+            return np.zeros((0, 3))     # a header only: no points (numpy would warn of an empty file)
     try:
         P = np.loadtxt(io.StringIO(text), delimiter=",", comments="#", skiprows=skip, ndmin=2, dtype=float)
     except ValueError as e:

@@ -303,14 +303,8 @@ def load_cell(path: str | Path) -> Cell:
 
 def _read(path: Path) -> str:
     """A cell file's text, bounded (:data:`MAX_CELL_BYTES`) before it is read."""
+    from kin.files import FileReadError, read_text
     try:
-        size = path.stat().st_size
-        if size > MAX_CELL_BYTES:
-            raise CellError(f"{path}: {size / 2**20:.1f} MB; a cell file may have at most "
-                            f"{MAX_CELL_BYTES / 2**20:g} MB")
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise CellError(f"{path}: no such cell file") from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise CellError(f"{path}: cannot read ({e})") from None
-    return text
+        return read_text(path, "cell file", MAX_CELL_BYTES)
+    except FileReadError as e:
+        raise CellError(str(e)) from None

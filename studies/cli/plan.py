@@ -50,16 +50,12 @@ def write_path_csv(robot, path_si: np.ndarray, out: str | Path) -> Path:
 
 def read_path_csv(robot, path: str | Path) -> np.ndarray:
     """A joint path CSV (one configuration per row, robot file units; optional header) → (M, n) SI."""
+    from kin.files import FileReadError, read_text
     path = Path(path)
     try:
-        if path.is_file() and path.stat().st_size > MAX_PATH_BYTES:
-            raise PathFileError(f"{path}: {path.stat().st_size / 1e6:.0f} MB; a joint-path file may hold at most "
-                                f"{MAX_PATH_BYTES / 1e6:.0f} MB")
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise PathFileError(f"{path}: no such joint-path file") from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise PathFileError(f"{path}: cannot read ({e})") from None
+        text = read_text(path, "joint-path file", MAX_PATH_BYTES)
+    except FileReadError as e:
+        raise PathFileError(str(e)) from None
     rows = []
     for lineno, row in enumerate(csv.reader(io.StringIO(text)), 1):
         if not row or all(not c.strip() for c in row) or row[0].lstrip().startswith("#"):

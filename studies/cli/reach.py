@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 import sys
 import unicodedata
@@ -30,6 +29,8 @@ from studies.jsonio import dump
 
 #: the score's dexterity measures (:data:`design.reach.MEASURES`; not imported: ``rmt --help`` stays light)
 MEASURES = ("sigma_min", "manipulability")
+#: a reach study JSON (rmt reach-compare's input) may have at most this many bytes
+MAX_STUDY_BYTES = 200 * 2**20
 #: unreached targets listed in the summary
 LISTED = 20
 
@@ -187,16 +188,11 @@ def cmd_reach(args, load_robot) -> int:
 
 def _read_study(path: str):
     from design.reach import ReachStudy
-    p = Path(path)
+    from kin.files import FileReadError, read_json
     try:
-        text = p.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as e:
-        raise CliInputError(f"{path}: cannot read the reach study: {getattr(e, 'strerror', None) or e}") from None
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise CliInputError(f"{path}: not JSON ({e.msg}, line {e.lineno}); give the output of rmt reach --json") \
-            from None
+        data = read_json(path, "reach study (rmt reach --json)", MAX_STUDY_BYTES)
+    except FileReadError as e:
+        raise CliInputError(str(e)) from None
     return ReachStudy.from_dict(data, str(path)), data
 
 

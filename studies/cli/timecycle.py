@@ -60,15 +60,11 @@ def read_cycle_file(robot, path: str | Path) -> list[tuple[str, np.ndarray, floa
 
     path = Path(path)
     r = _Reader(str(path))
+    from kin.files import FileReadError, read_text
     try:
-        if path.is_file() and path.stat().st_size > MAX_CYCLE_BYTES:
-            raise r.fail(None, f"{path.stat().st_size / 2**20:.0f} MB; a cycle file may have at most "
-                               f"{MAX_CYCLE_BYTES // 2**20} MB")
-        doc = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise r.fail(None, "no such cycle file") from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise r.fail(None, f"cannot read ({e})") from None
+        doc = tomllib.loads(read_text(path, "cycle file", MAX_CYCLE_BYTES))
+    except FileReadError as e:
+        raise r.fail(None, e.reason) from None
     except tomllib.TOMLDecodeError as e:
         raise r.fail(None, f"not valid TOML ({e})") from None
     r.table(doc, "", TOP_KEYS)

@@ -317,7 +317,7 @@ def test_load_chain_file_errors_name_the_file(tmp_path):
         load_chain(p)
     assert str(p) in str(e.value) and "joints[0].type" in str(e.value)
     p.write_bytes(b"\xff\xfe\x00bad")
-    with pytest.raises(kin.RobotFileError, match="cannot read"):
+    with pytest.raises(kin.RobotFileError, match="not UTF-8 text"):
         load_chain(p)
 
 
