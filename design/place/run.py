@@ -154,11 +154,15 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
     light = ReachProblem(robot, targets, cell, clearance, windows,
                          dataclasses.replace(weights, dexterity_ref=full.dex_ref), SCREEN, dexterity)
     deadline = t_start + max_time
+    full.deadline = light.deadline = deadline     # every study stops early past it (after one start), and says so
+    light.cut = []
+    cut: list[str] = []
     methods: dict = {}
     verified: list[tuple[str, np.ndarray, ReachStudy]] = []
 
     def verify(name: str, u: np.ndarray, t: float, extra: dict | None = None) -> ReachStudy:
         s = full.study(placement_transform(u))
+        cut.extend(f"{name} verification: {c}" for c in full.cut)
         verified.append((name, u, s))
         methods[name] = _verified(name, u, s, t, extra)
         return s
@@ -170,10 +174,19 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
         raise TaskError("the placement region lies inside the keep-out rectangles: no placement to try")
     say(f"screening {len(C) - len(now)} candidate placements" + (" and the current one" if len(now) else ""))
     ev = evaluate_placements(light, C, region, keep_q=True, deadline=deadline)
+    screened = int(np.isfinite(ev.value).sum())
+    if screened < len(C):
+        cut.append(f"screening: {screened} of {len(C)} candidate placements scored")
+    if light.cut:
+        cut.append(f"screening: {light.cut[0]}")
     order = np.argsort(-ev.value, kind="stable")[:starts]
-    nlp = PlacementNlp(robot, targets, region, weights, full.dex_ref, cell is not None,
-                       max_time=max(1.0, min(60.0, max_time / max(starts, 1))))
     runs = []
+    if time.perf_counter() > deadline:      # building the NLP alone takes minutes on 10⁵ targets
+        cut.append("ipopt: not run")
+        order = order[:0]
+    else:
+        nlp = PlacementNlp(robot, targets, region, weights, full.dex_ref, cell is not None,
+                           max_time=max(1.0, min(60.0, max_time / max(starts, 1))))
     for i, c in enumerate(order):
         if time.perf_counter() > deadline or ev.q[c] is None:
             break
@@ -193,8 +206,10 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
         say(f"IPOPT start {i + 1}/{len(order)}: {run.status}, objective {run.objective:.6g}, {run.iterations} "
             f"iterations, {run.time_s:.2f} s")
     if runs:            # each run verified with its own configurations offered as one more IK start
-        studies = [full.study(placement_transform(r.u), hint=r.q) if region.allowed(r.u[None])[0] else None
-                   for r in runs]
+        studies = []
+        for r in runs:
+            studies.append(full.study(placement_transform(r.u), hint=r.q) if region.allowed(r.u[None])[0] else None)
+            cut.extend(f"ipopt verification: {c}" for c in full.cut)
         vals = [s.value if s is not None else -1.0 for s in studies]
         best = int(np.argmax(vals))
         if studies[best] is not None:
@@ -224,6 +239,7 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
     name, u, study = max(verified, key=lambda v: v[2].value)
     t1 = time.perf_counter()
     before = full.study(base0)
+    cut.extend(f"current placement's study: {c}" for c in full.cut)
     notes = []
     if why_not is None:
         methods["current"] = _verified("current", u_now, before, time.perf_counter() - t1)
@@ -234,7 +250,11 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
     else:
         notes.append(f"the current placement is not a candidate: {why_not}")
     if time.perf_counter() > deadline:
-        notes.append(f"the time budget of {max_time:g} s ran out; the searches stopped early")
+        skipped = [m for m, on in (("differential evolution", de_iterations), ("grid", grid)) if on]
+        skipped = [m for m in skipped if m.split()[0] not in {k.split("_")[0] for k in methods}]
+        notes.append(f"the time budget of {max_time:g} s ran out; the searches stopped early"
+                     + (f" ({', '.join(skipped)} not run)" if skipped else "")
+                     + "".join(f"; {c}" for c in dict.fromkeys(cut)))
     return PlacementResult(robot=robot.name, region=region, u=np.asarray(u, float), study=study, before=before,
                            method=name, methods=methods, ipopt=runs, time_s=time.perf_counter() - t_start,
                            notes=notes, grid=eg, current=u_now, current_reason=why_not)

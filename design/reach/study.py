@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import time
 from typing import Callable
 
 import numpy as np
@@ -130,6 +131,13 @@ class ReachProblem:
             self.default_base = np.eye(4)
         self.clearance = clearance
         self._lifted = None
+        #: time.perf_counter() past which a study stops early (after its first start; None: never) —
+        #: a placement search's budget; what a study cut is said in its notes
+        self.deadline: float | None = None
+        self.cut: list[str] = []
+
+    def _late(self) -> bool:
+        return self.deadline is not None and time.perf_counter() > self.deadline
 
     def lifted(self):
         if self._lifted is None:
@@ -146,9 +154,11 @@ class ReachProblem:
         robot, t = self.robot, self.targets
         if hint is not None and np.shape(hint) != (len(t), robot.n):
             raise TaskError(f"hint must have shape ({len(t)}, {robot.n}), got {np.shape(hint)}")
+        self.cut = []
         d = self.run(P, explain=True, hint=hint)
         notes = [] if self.world is not None else [
             "no work cell: collisions not checked; the score has no clearance term"]
+        notes += [f"the time budget ran out: {c}" for c in self.cut]
         return ReachStudy(robot=robot.name, positions=t.positions.copy(), placement=np.array(P, float),
                           reached=d["reached"], score=d["score"], dexterity=d["dexterity"], clearance=d["clearance"],
                           limit_margin=d["limit_margin"], q=d["q"], reason=d["reason"], detail=d["detail"],
@@ -254,6 +264,9 @@ def _evaluate(pb: ReachProblem, P: np.ndarray, explain: bool, hint: np.ndarray |
     qs = np.zeros((N, nv, kk, n))
     rows_t = np.repeat(np.arange(N), nv)
     for j in range(k):
+        if j and pb._late():
+            pb.cut.append(f"IK from {j} of the {k} starts per target (unreached targets may be reachable)")
+            break
         st, sc, te, Q = _judge(pb, goal, starts[rows_t, j], mode)
         stage[:, :, j], score[:, :, j] = st.reshape(N, nv), sc.reshape(N, nv)
         terms[:, :, j], qs[:, :, j] = te.reshape(N, nv, 3), Q.reshape(N, nv, n)
@@ -315,6 +328,10 @@ def _decide(pb: ReachProblem, P: np.ndarray, stage, score, terms, qs, explain: b
         for j in range(starts.shape[1]):       # the study's starts, each with random restarts over the lifted range
             left = ~hit
             if not left.any():
+                break
+            if pb._late():
+                pb.cut.append(f"{int(left.sum())} unreached target(s) not tried with the joint limits lifted "
+                              "(said out of reach)")
                 break
             sub = (np.flatnonzero(left)[:, None] * pb.nv + np.arange(pb.nv)[None]).ravel()
             res = lifted.ik(goal[rows[sub]], seed=j, q0=np.repeat(starts[far[left], j], pb.nv, axis=0), mode=mode,
