@@ -55,8 +55,8 @@ def read_cycle_file(robot, path: str | Path) -> list[tuple[str, np.ndarray, floa
     """The moves of a cycle file: (name, path (M, n) SI, dwell s) each; one-line errors naming the
     file and the field."""
     from planning.timing.sequence import JOIN_TOLERANCE, MAX_DWELL, MAX_MOVES, join_gap
+    from studies.cli.common import require_within_limits
     from studies.cli.plan import read_path_csv
-    from studies.cli.timing import require_within_limits
 
     path = Path(path)
     r = _Reader(str(path))

@@ -24,7 +24,7 @@ import sys
 import numpy as np
 
 from kin.output import write_output
-from studies.cli.common import EXIT_FAIL, CliInputError, bounded, numbers, output_file
+from studies.cli.common import EXIT_FAIL, CliInputError, bounded, numbers, output_file, require_within_limits
 from studies.jsonio import dump, finite_or_none
 from studies.units import joint_units
 
@@ -61,22 +61,6 @@ def _per_joint(robot, raw, what: str, unit_power: int, default_attr: str | None)
         raise CliInputError(f"{what}: {v[0 if len(v) == 1 else k]:g}{which} is outside the allowed range "
                             f"[{LIMIT_RANGE[0]:g}, {LIMIT_RANGE[1]:g}] ({unit})")
     return arr if unit_power == 0 else c.to_si(arr)
-
-
-def require_within_limits(robot, P: np.ndarray, where) -> None:
-    """Refuse a path (M, n) SI with a joint value outside the robot's limits (1e-12 SI of slack): one line
-    naming ``where(i)`` (i the 0-based index of the configuration: e.g. "P.csv: data row 3"), the joint, its value and
-    the allowed range in robot file units.  Beyond the limits a path's length can overflow and its time
-    vanish (1e300 rad: "zero-length path")."""
-    c = robot.chain
-    bad = (P < c.lower[None, :] - 1e-12) | (P > c.upper[None, :] + 1e-12)
-    if not bad.any():
-        return
-    i, j = (int(x) for x in np.argwhere(bad)[0])
-    u = joint_units(c)[j]
-    lo, hi, q = c.from_si(c.lower)[j], c.from_si(c.upper)[j], c.from_si(P[i])[j]
-    raise CliInputError(f"{where(i)}: joint {c.joint_names()[j]} = {q:.10g} {u} is outside its limits "
-                        f"[{lo:.10g}, {hi:.10g}] {u} ({robot.name})")
 
 
 def limits_or_defaults(robot, v_raw, a_raw) -> tuple[np.ndarray, np.ndarray]:
