@@ -29,9 +29,12 @@ from typing import Literal
 
 import numpy as np
 
+from kin.files import FileReadError, read_bytes
 from kin.robotfile import MAX_LENGTH, MAX_REVOLUTE_LIMIT, MAX_TORQUE, MIN_LENGTH
 from kin.urdf.errors import UrdfError
 
+#: the largest URDF file read (the robot's description; meshes are read apart)
+MAX_URDF_BYTES = 20 * 2**20
 #: range given to a continuous joint (one turn: every orientation), rad
 CONTINUOUS_LIMITS = (-math.pi, math.pi)
 MOVABLE = ("revolute", "continuous", "prismatic")
@@ -134,8 +137,10 @@ def load_urdf_model(path: str | Path):
     import yourdfpy
 
     path = str(path)
-    if not Path(path).is_file():
-        raise UrdfError("no such file", path)
+    try:                 # bounded like every file rmt reads (a regular file, the size cap) before the parser opens it
+        read_bytes(path, "URDF file", MAX_URDF_BYTES)
+    except FileReadError as e:
+        raise UrdfError("no such file" if not Path(path).exists() else e.reason, path) from None
     quiet = logging.getLogger("yourdfpy")      # it logs parse errors itself; ours is the one message
     level = quiet.level
     quiet.setLevel(logging.CRITICAL)

@@ -34,6 +34,7 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
 
+from kin.files import FileReadError, read_text
 from kin.urdf.errors import UrdfError
 
 __all__ = ["MAX_BYTES", "GroupState", "read_root", "disabled_link_pairs", "group_states", "chain_states",
@@ -47,18 +48,9 @@ def read_root(path: str | Path) -> ET.Element:
     """The ``<robot>`` element of an SRDF file (size, encoding and document type checked)."""
     path = Path(path)
     try:
-        size = path.stat().st_size
-        if not path.is_file():
-            raise UrdfError("not a file", str(path))
-        if size > MAX_BYTES:
-            raise UrdfError(f"{size / 2**20:.1f} MB; an SRDF may have at most {MAX_BYTES // 2**20} MB", str(path))
-        text = path.read_bytes().decode("utf-8")
-    except FileNotFoundError:
-        raise UrdfError("no such SRDF file", str(path)) from None
-    except UnicodeDecodeError as e:
-        raise UrdfError(f"not a UTF-8 text file (byte {e.start})", str(path)) from None
-    except OSError as e:
-        raise UrdfError(f"cannot read ({e.strerror or e})", str(path)) from None
+        text = read_text(path, "SRDF file", MAX_BYTES)
+    except FileReadError as e:
+        raise UrdfError(e.reason, str(path)) from None
     if re.search(r"<!DOCTYPE|<!ENTITY", text, re.IGNORECASE):
         raise UrdfError("a document type declaration (<!DOCTYPE or <!ENTITY) is not read in an SRDF", str(path))
     try:

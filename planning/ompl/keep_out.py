@@ -18,12 +18,15 @@ import tomllib
 from pathlib import Path
 
 from kin.chain import LENGTH_UNITS
+from kin.files import FileReadError, read_text
 from planning.errors import PlanningError
 from planning.ompl.validity import KeepOutBox
 
 __all__ = ["KeepOutError", "load_keep_out", "parse_keep_out", "MAX_BOXES"]
 
 MAX_BOXES = 1000
+#: the largest keep-out file read
+MAX_BYTES = 1 << 20
 _TOP = {"length_unit", "box"}
 _BOX = {"name", "lower", "upper", "frames"}
 FRAMES = ("tool", "all")
@@ -81,9 +84,7 @@ def load_keep_out(path: str | Path, default_length_unit: str) -> list[KeepOutBox
     """Boxes (SI) of a keep-out TOML file (see the module docstring)."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise KeepOutError(f"{path}: no such keep-out file") from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise KeepOutError(f"{path}: cannot read ({e})") from None
+        text = read_text(path, "keep-out file", MAX_BYTES)
+    except FileReadError as e:
+        raise KeepOutError(str(e)) from None
     return parse_keep_out(text, default_length_unit, str(path))

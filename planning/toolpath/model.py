@@ -14,6 +14,7 @@ import numpy as np
 
 from kin.chain import ANGLE_UNITS, LENGTH_UNITS
 from kin.errors import RmtError
+from kin.files import FileReadError, read_text
 from kin.validation import real_array
 from planning.toolpath.geometry import chord_length, times_from_feed
 
@@ -21,6 +22,8 @@ __all__ = ["ToolPath", "ToolPathError", "MAX_WAYPOINTS", "FEED_RANGE", "MAX_COOR
 
 #: a path longer than this is refused (a step of a micrometre over metres is a unit mistake)
 MAX_WAYPOINTS = 5_000_000
+#: the largest tool-path file read (CSV or TOML; 5 million waypoints of a few numbers each)
+MAX_TOOLPATH_BYTES = 500_000_000
 #: feed rates a reader accepts, m/s (1 µm/s to 1 km/s)
 FEED_RANGE = (1e-6, 1e3)
 #: the largest coordinate a reader accepts, m (as a robot file's lengths)
@@ -174,8 +177,6 @@ def read_toolpath_text(path: str | Path) -> tuple[str, str]:
     path = Path(path)
     src = str(path)
     try:
-        return path.read_text(encoding="utf-8"), src
-    except FileNotFoundError:
-        raise ToolPathError("no such tool-path file", src) from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise ToolPathError(f"cannot read file ({e})", src) from None
+        return read_text(path, "tool-path file", MAX_TOOLPATH_BYTES), src
+    except FileReadError as e:
+        raise ToolPathError(e.reason, src) from None

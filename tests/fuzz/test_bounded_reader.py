@@ -9,6 +9,7 @@ import warnings
 
 import pytest
 
+import kin
 from kin.files import FileReadError, json_depth, read_bytes, read_json, read_text
 from tests.fuzz.contract import run_contract
 
@@ -165,3 +166,22 @@ def test_point_cloud_with_a_header_only_one_line_no_warning(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         refused(["clearance", "planar_2r", "0", "0", "--cell", "cell.toml"], tmp_path, "scan.csv", "no points")
+
+
+@pytest.mark.parametrize("loader, word", [
+    ("planning.cell.moveit:load_scene", "scene file"),
+    ("planning.ompl.keep_out:load_keep_out", "keep-out file"),
+    ("kin.urdf.srdf:read_root", "SRDF file"),
+    ("planning.toolpath.model:read_toolpath_text", "tool-path file"),
+])
+def test_the_other_readers_refuse_a_fifo_at_once(tmp_path, loader, word):
+    """Every file reader goes through kin.files: a FIFO (which would block a plain open) is refused
+    before it is opened, in one line naming the file and the kind."""
+    import importlib
+    mod, fn = loader.split(":")
+    fifo = tmp_path / ("pipe.yaml" if "moveit" in mod else "pipe.toml")
+    os.mkfifo(fifo)
+    f = getattr(importlib.import_module(mod), fn)
+    args = (fifo, "m") if fn == "load_keep_out" else (fifo,)
+    with pytest.raises(kin.RmtError, match=rf"pipe\.(yaml|toml): not a regular file; a {word} must be a regular file"):
+        f(*args)

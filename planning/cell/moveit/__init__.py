@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from kin.files import FileReadError, read_text
 from planning.cell.model import Cell, is_body_like
 from planning.cell.moveit.cell_text import cell_name, cell_text
 from planning.cell.moveit.scene import MAX_SCENE_BYTES, Scene, SceneObject, SceneShape
@@ -41,19 +42,9 @@ def load_scene(path: str | Path, frame: str | None = None) -> Scene:
         raise CellError(f"{path}: a MoveIt planning scene is a .scene text file (RViz's Export) or a PlanningScene "
                         f"in YAML (.yaml, .yml)")
     try:
-        size = path.stat().st_size
-        if not path.is_file():
-            raise CellError(f"{path}: not a file")
-        if size > MAX_SCENE_BYTES:
-            raise CellError(f"{path}: {size / 2**20:.1f} MB; a scene file may have at most "
-                            f"{MAX_SCENE_BYTES / 2**20:g} MB")
-        text = path.read_bytes().decode("utf-8")
-    except FileNotFoundError:
-        raise CellError(f"{path}: no such scene file") from None
-    except UnicodeDecodeError as e:
-        raise CellError(f"{path}: not a UTF-8 text file (byte {e.start})") from None
-    except OSError as e:
-        raise CellError(f"{path}: cannot read ({e.strerror or e})") from None
+        text = read_text(path, "scene file", MAX_SCENE_BYTES)
+    except FileReadError as e:
+        raise CellError(str(e)) from None
     if kind == "yaml":
         return parse_scene_yaml(text, str(path), frame)
     if frame is not None:

@@ -145,12 +145,12 @@ def test_files_are_bounded_before_they_are_read(tmp_path):
     with pytest.raises(CellError, match="big.yaml: 50.0 MB; a scene file may have at most 50 MB"):
         load_scene(big)
     (tmp_path / "bin.scene").write_bytes(b"\xff\xfe\x00garbage")
-    with pytest.raises(CellError, match=r"bin.scene: not a UTF-8 text file \(byte 0\)"):
+    with pytest.raises(CellError, match=r"bin.scene: not UTF-8 text \(byte 0xff at offset 0, line 1\)"):
         load_scene(tmp_path / "bin.scene")
     with pytest.raises(CellError, match="nope.yaml: no such scene file"):
         load_scene(tmp_path / "nope.yaml")
     (tmp_path / "dir.yaml").mkdir()
-    with pytest.raises(CellError, match="dir.yaml: not a file"):
+    with pytest.raises(CellError, match="dir.yaml: a directory, not a regular file"):
         load_scene(tmp_path / "dir.yaml")
     with pytest.raises(CellError, match=r"s.json: a MoveIt planning scene is a .scene text file .* \(.yaml, .yml\)"):
         load_scene(tmp_path / "s.json")
