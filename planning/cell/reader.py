@@ -199,10 +199,8 @@ def _tools(where: str, doc: dict, unit: str, angle_unit: str, shapes: bool = Tru
     return tool, tcp
 
 
-def parse_cell(text: str, where: str = "cell", base_dir: str | Path | None = None) -> Cell:
-    """A :class:`Cell` from the text of a cell file; ``where`` names it in messages; ``base_dir``:
-    where mesh and point-cloud files are looked up (default: the current directory)."""
-    base_dir = Path(".") if base_dir is None else Path(base_dir)
+def _document(text: str, where: str) -> dict:
+    """The TOML document of a cell file's text: bounded, parsed, its top-level keys checked."""
     if len(text) > MAX_CELL_BYTES:
         raise CellError(f"{where}: {len(text)} characters; a cell file may have at most {MAX_CELL_BYTES}")
     try:
@@ -210,6 +208,14 @@ def parse_cell(text: str, where: str = "cell", base_dir: str | Path | None = Non
     except tomllib.TOMLDecodeError as e:
         raise CellError(f"{where}: not valid TOML ({e})") from None
     check_keys(where, doc, _TOP)
+    return doc
+
+
+def parse_cell(text: str, where: str = "cell", base_dir: str | Path | None = None) -> Cell:
+    """A :class:`Cell` from the text of a cell file; ``where`` names it in messages; ``base_dir``:
+    where mesh and point-cloud files are looked up (default: the current directory)."""
+    base_dir = Path(".") if base_dir is None else Path(base_dir)
+    doc = _document(text, where)
     top = Table(where, doc, "m", 1.0, "deg")
     unit, angle_unit = _units(top)
     scale = LENGTH_UNITS[unit]
@@ -282,14 +288,7 @@ def cell_tcp(path: str | Path):
     """The tool centre point a cell file's ``[[tool]] tcp`` sets (4×4, SI, in the robot file's tool
     frame), or None — read and checked as :func:`load_cell` does, without building the obstacles."""
     path = Path(path)
-    text = _read(path)
-    if len(text) > MAX_CELL_BYTES:
-        raise CellError(f"{path}: {len(text)} characters; a cell file may have at most {MAX_CELL_BYTES}")
-    try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        raise CellError(f"{path}: not valid TOML ({e})") from None
-    check_keys(str(path), doc, _TOP)
+    doc = _document(_read(path), str(path))
     unit, angle_unit = _units(Table(str(path), doc, "m", 1.0, "deg"))
     return _tools(str(path), doc, unit, angle_unit, shapes=False)[1]
 
