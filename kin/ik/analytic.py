@@ -36,7 +36,7 @@ import numpy as np
 from kin.chain import Chain
 from kin.errors import RmtError
 from kin.ik.numeric import _targets
-from kin.ik.trig import EPS
+from kin.ik.trig import EPS as _EPS
 from kin.ik.trig import rx as _rx
 from kin.ik.trig import rz as _rz
 from kin.ik.trig import trans as _trans
@@ -45,9 +45,6 @@ from kin.transforms import rotation_error
 
 __all__ = ["NoClosedFormError", "PieperArm", "analytic_branches", "analytic_ik", "closed_form", "pieper_arm",
            "turn_copies"]
-
-_EPS = EPS
-
 
 class NoClosedFormError(RmtError):
     """The chain has no closed-form IK here (not six revolute joints with a spherical wrist)."""

@@ -32,16 +32,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from kin.chain import Chain
-from kin.ik.trig import EPS
 from kin.ik.trig import rx as _rx
 from kin.ik.trig import rz as _rz
 from kin.ik.trig import trans as _trans
 from kin.ik.trig import two_angles as _two_angles
 
 __all__ = ["ParallelArm", "parallel_arm", "parallel_candidates"]
-
-_EPS = EPS
-
 
 @dataclass(frozen=True)
 class ParallelArm:
