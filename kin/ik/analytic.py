@@ -46,6 +46,7 @@ from kin.transforms import rotation_error
 __all__ = ["NoClosedFormError", "PieperArm", "analytic_branches", "analytic_ik", "closed_form", "pieper_arm",
            "turn_copies"]
 
+
 class NoClosedFormError(RmtError):
     """The chain has no closed-form IK here (not six revolute joints with a spherical wrist)."""
 

@@ -39,6 +39,7 @@ from kin.ik.trig import two_angles as _two_angles
 
 __all__ = ["ParallelArm", "parallel_arm", "parallel_candidates"]
 
+
 @dataclass(frozen=True)
 class ParallelArm:
     """The modified-DH constants of a 6R chain with parallel axes 2, 3, 4, α₂ = α₃ = 0 after folding
