@@ -211,8 +211,7 @@ def check_path(robot, path, windows: WindowSet | None = None, sigma_min: float |
     tally = None if world is None else ClearanceTally(world)
     for Q, seg, frac in dense_chunks(P, counts, chunk):
         if world is not None:
-            tally.add(Q, seg)
-            c = world.clearance(Q)
+            c = tally.add(Q, seg)       # the world's clearance: its two kinds' models, the smaller of each state's
             kc = int(np.argmin(c))
             if c[kc] < clear_min:
                 clear_min, clear_seg = float(c[kc]), int(seg[kc])

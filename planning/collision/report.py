@@ -50,9 +50,11 @@ class Nearest:
 class ClearanceTally:
     """The nearest obstacle and the nearest self pair over batches of configurations, kept apart.
 
-    ``add(Q, rows)`` takes configurations (N, n, SI) and the row each belongs to; ``obstacle`` and
-    ``self_pair`` are then the nearest of each kind over everything added (None when the world has
-    none of that kind, or nothing of it comes within the world's cap)."""
+    ``add(Q, rows)`` takes configurations (N, n, SI) and the row each belongs to, and returns their
+    clearance (N,) — the smaller of the two kinds', which is the world's own
+    (:meth:`CollisionWorld.clearance`: the same pairs, split in two); ``obstacle`` and ``self_pair``
+    are then the nearest of each kind over everything added (None when the world has none of that
+    kind, or nothing of it comes within the world's cap)."""
 
     def __init__(self, world):
         self.world = world
@@ -60,15 +62,17 @@ class ClearanceTally:
         self.self_pair: Nearest | None = None
         self._models = world.split_models()
 
-    def add(self, Q, rows=None) -> None:
+    def add(self, Q, rows=None) -> np.ndarray:
         Q = np.atleast_2d(np.asarray(Q, dtype=float))
+        clearance = np.full(len(Q), self.world.cap)
         if not len(Q):
-            return
+            return clearance
         rows = np.arange(len(Q)) if rows is None else np.asarray(rows)
         for kind, model in zip(("obstacle", "self"), self._models):
             if model is None:
                 continue
             ct = model.nearest(Q)
+            clearance = np.minimum(clearance, ct.clearance)
             have = np.asarray(ct.body) >= 0
             if not have.any():
                 continue
@@ -86,6 +90,7 @@ class ClearanceTally:
                 self.obstacle = found
             else:
                 self.self_pair = found
+        return clearance
 
     def to_dict(self) -> dict:
         """``{"nearest_obstacle": …, "nearest_self": …}`` (each :meth:`Nearest.to_dict` or None), m."""

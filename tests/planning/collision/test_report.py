@@ -175,3 +175,17 @@ def test_check_path_reports_both_over_the_dense_states(setup, tmp_path):
     assert d["min_clearance"] == pytest.approx(min(best_o[0], best_s[0]), abs=1e-6)
     rc, out, _ = run(["check-path", "planar_2r", str(path), "--cell", str(cell)])
     assert f"nearest obstacle '{best_o[2]}'" in out and "nearest self pair" in out
+
+
+@pytest.mark.parametrize("robot_name, cell", [("fanuc_lrmate200id", "fanuc_weld_cell"), ("ur5e", "ur5e_shelf_cell"),
+                                              ("ur5e", None)])
+def test_the_tally_gives_the_worlds_clearance(robot_name, cell):
+    """check_path takes each state's clearance from the tally (its two kinds' models): exactly the
+    world's own, the same pairs in one model."""
+    from studies.cli.common import cell_file
+    robot = kin.load_robot(robot_name)
+    world = collision_world(robot, None if cell is None else cell_file(cell), 0.0)
+    Q = robot.random_configurations(3000, seed=3)
+    c = ClearanceTally(world).add(Q)
+    assert np.array_equal(c, world.clearance(Q))
+    assert (c < world.cap).any()              # pairs within the cap: the comparison is not of two constants
