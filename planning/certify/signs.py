@@ -22,7 +22,7 @@ import numpy as np
 
 from planning.certify.cells import FreeCells, Separation
 
-__all__ = ["Separator", "floor_factors", "sign_separation"]
+__all__ = ["Separator", "floor_factors", "sign_changes", "sign_separation"]
 
 #: points sampled on each factor's zero set to confirm σ_min vanishes there
 _SAMPLES = 20
@@ -62,19 +62,26 @@ def floor_factors(robot) -> tuple:
     return factors
 
 
+def sign_changes(factors, Q):
+    """Each (factor, i, values) where a factor has opposite signs at consecutive configurations
+    ``Q[i]`` and ``Q[i + 1]`` (SI, (M, n)); ``values`` are the factor's values at every row.  In the
+    order of ``factors``, then of ``i``."""
+    Q = np.atleast_2d(np.asarray(Q, dtype=float))
+    for f in factors:
+        g = np.asarray(f(Q), dtype=float).ravel()
+        for i in np.flatnonzero(g[:-1] * g[1:] < 0):
+            yield f, int(i), g
+
+
 def sign_separation(factors, start, goal) -> Separation | None:
     """The first factor with opposite signs at ``start`` and ``goal`` (SI), as a :class:`Separation`
     of kind ``"sign"``; None when every factor keeps its sign (or is zero at one end)."""
-    a = np.asarray(start, dtype=float)[None]
-    b = np.asarray(goal, dtype=float)[None]
-    for f in factors:
-        fa, fb = float(np.asarray(f(a)).ravel()[0]), float(np.asarray(f(b)).ravel()[0])
-        if fa * fb < 0:
-            joints = ", ".join(f"q{j}" for j in f.joints)
-            return Separation(tuple(f.joints), (), "sign",
-                              f"the {f.kind} factor {f.expr} ({joints}) is {fa:+.3g} at the start and {fb:+.3g} at "
-                              f"the goal: every joint path between them passes through its zero set, where σ_min = 0, "
-                              f"below the σ_min floor")
+    for f, _, (fa, fb) in sign_changes(factors, np.stack([np.asarray(start, float), np.asarray(goal, float)])):
+        joints = ", ".join(f"q{j}" for j in f.joints)
+        return Separation(tuple(f.joints), (), "sign",
+                          f"the {f.kind} factor {f.expr} ({joints}) is {fa:+.3g} at the start and {fb:+.3g} at the "
+                          f"goal: every joint path between them passes through its zero set, where σ_min = 0, below "
+                          f"the σ_min floor")
     return None
 
 

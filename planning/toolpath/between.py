@@ -9,7 +9,7 @@ consecutive reachable waypoints that are themselves clear of the windows and the
   where one is zero, σ_min is zero.  When a factor has opposite signs at two consecutive waypoints,
   every continuous joint motion between them — whatever the controller does — passes through its
   zero set: the arm is singular on the way.  Only factors of an exact analysis whose zero sets are
-  confirmed singular (σ_min vanishes at points sampled on them) are used: :func:`singular_factors`.
+  confirmed singular (σ_min vanishes at points sampled on them) are used: :func:`planning.certify.signs.floor_factors`.
 * **windows and the σ_min floor along the joint-space segment**, densely and by proof
   (:func:`planning.validate.check_path`, which proves the windows and the floor between its rows).
   Joint limits need no check here: the limit box is convex, so a segment between two waypoints inside
@@ -26,10 +26,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planning.certify.signs import floor_factors
+from planning.certify.signs import sign_changes
 from planning.validate import check_path
 
-__all__ = ["SEGMENT_KINDS", "SegmentProblem", "check_segments", "singular_factors"]
+__all__ = ["SEGMENT_KINDS", "SegmentProblem", "check_segments"]
 
 #: problem kinds of a segment, in the order they rank on one segment
 SEGMENT_KINDS = ("singular_crossing", "window", "sigma_min")
@@ -49,31 +49,23 @@ class SegmentProblem:
     check: str
 
 
-def singular_factors(robot) -> tuple:
-    """The exact singular factors of ``robot`` whose zero sets are singular
-    (:func:`planning.certify.signs.floor_factors`)."""
-    return floor_factors(robot)
-
-
 def _crossings(robot, factors, Q: np.ndarray, ok: np.ndarray) -> dict[int, SegmentProblem]:
     """Segments (where ``ok``) across which an exact factor changes sign."""
     out: dict[int, SegmentProblem] = {}
     if not factors or len(Q) < 2:
         return out
     chain = robot.chain
-    for f in factors:
-        g = np.asarray(f(Q), dtype=float)
-        for i in np.flatnonzero(ok & (g[:-1] * g[1:] < 0)):
-            if i in out:
-                continue
-            names = ", ".join(f"q{j}" for j in f.joints)
-            at = ", ".join(f"q{j} {Q[i, j - 1] / chain.variable_scale[j - 1]:.4g} → "
-                           f"{Q[i + 1, j - 1] / chain.variable_scale[j - 1]:.4g}" for j in f.joints)
-            out[int(i)] = SegmentProblem(
-                int(i), "singular_crossing",
-                f"the {f.kind} factor {f.expr} ({names}) is {g[i]:+.3g} at waypoint {i} and {g[i + 1]:+.3g} at "
-                f"waypoint {i + 1} ({at}): every continuous joint motion between them passes through its zero "
-                f"set, where σ_min = 0 (proven by continuity)", "proven")
+    for f, i, g in sign_changes(factors, Q):
+        if not ok[i] or i in out:
+            continue
+        names = ", ".join(f"q{j}" for j in f.joints)
+        at = ", ".join(f"q{j} {Q[i, j - 1] / chain.variable_scale[j - 1]:.4g} → "
+                       f"{Q[i + 1, j - 1] / chain.variable_scale[j - 1]:.4g}" for j in f.joints)
+        out[int(i)] = SegmentProblem(
+            int(i), "singular_crossing",
+            f"the {f.kind} factor {f.expr} ({names}) is {g[i]:+.3g} at waypoint {i} and {g[i + 1]:+.3g} at "
+            f"waypoint {i + 1} ({at}): every continuous joint motion between them passes through its zero "
+            f"set, where σ_min = 0 (proven by continuity)", "proven")
     return out
 
 
@@ -115,7 +107,7 @@ def check_segments(robot, Q: np.ndarray, checkable: np.ndarray, clear: np.ndarra
 
     ``Q`` (N, n) SI; ``checkable`` (N − 1,) which segments to check at all (both ends reachable, no
     branch jump); ``clear`` (N,) waypoints clear of the windows and the floor; ``factors``: exact
-    singular factors (:func:`singular_factors`) whose sign changes are crossings.
+    singular factors (:func:`planning.certify.signs.floor_factors`) whose sign changes are crossings.
     """
     Q = np.asarray(Q, dtype=float)
     checkable = np.asarray(checkable, bool)

@@ -43,7 +43,8 @@ import numpy as np
 from kin.errors import ConfigurationError, RmtError
 from kin.transforms import rotation_error
 from planning.certify.collision import certify_collision
-from planning.toolpath.between import check_segments, singular_factors
+from planning.certify.signs import floor_factors
+from planning.toolpath.between import check_segments
 from planning.toolpath.ik import continuous_ik
 from planning.toolpath.model import ToolPath, ToolPathError
 from planning.toolpath.report import KINDS, Problem, ToolPathReport
@@ -103,7 +104,7 @@ def validate_toolpath(robot, toolpath: ToolPath, windows: WindowSet | None = Non
         waypoint must be clear of it by its margin, and every joint motion between two reachable
         waypoints is proven clear (:func:`planning.certify.collision.certify_collision`).
     factors : exact singular factors whose sign change between two waypoints is a proven crossing of
-        the singular set (:func:`planning.toolpath.between.singular_factors`); None: looked up when
+        the singular set (:func:`planning.certify.signs.floor_factors`); None: looked up when
         ``sigma_min`` or ``windows`` is given; () : none.
 
     The joint motions between consecutive waypoints are checked too
@@ -203,7 +204,7 @@ def validate_toolpath(robot, toolpath: ToolPath, windows: WindowSet | None = Non
             first = (int(idx[0]), k)
     # ---- between the waypoints: the joint motions (planning.toolpath.between) ----------------------
     if factors is None:
-        factors = singular_factors(robot) if (sigma_min is not None or windows is not None) else ()
+        factors = floor_factors(robot) if (sigma_min is not None or windows is not None) else ()
     checkable = reachable[:-1] & reachable[1:] & ~jump[1:]
     clear = reachable & ~flags["window"] & ~flags["sigma_min"]
     segments, segments_check = check_segments(robot, Q, checkable, clear, windows, sigma_min, factors)
