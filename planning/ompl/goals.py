@@ -131,10 +131,12 @@ def goal_from_pose(robot, pose: np.ndarray, start: np.ndarray, checker: JointSpa
     refused[REASONS[0]] = outside
     valid: list[np.ndarray] = []
     bad: list[tuple[np.ndarray, str, str]] = []          # refused candidates, nearest first
-    for q in sorted(cands, key=lambda q: float(np.linalg.norm(q - start))):
+    dist: list[float] = []                                # of the valid ones, ascending
+    for d, q in sorted(((float(np.linalg.norm(q - start)), q) for q in cands), key=lambda dq: dq[0]):
         why = checker.reason([float(x) for x in q])
         if why is None:
             valid.append(q)
+            dist.append(d)
             continue
         cat, detail = _reason(why)
         refused[cat] += 1
@@ -151,9 +153,8 @@ def goal_from_pose(robot, pose: np.ndarray, start: np.ndarray, checker: JointSpa
                             + _counts(refused), reason, {**info, "reason": reason})
     same = [cells.same_cell(start, q) for q in valid]
     refused[REASONS[5]] = len(valid) - sum(same)
-    dist = [float(np.linalg.norm(q - start)) for q in valid]
     order = sorted(range(len(valid)), key=lambda i: (not same[i], dist[i]))
-    best, nearest = order[0], int(np.argmin(dist))
+    best, nearest = order[0], 0                           # valid is sorted by distance
     why = (f"{len(valid)} of {len(cands)} candidate(s) valid, {sum(same)} in the start's free cell; the nearest "
            + ("such one" if same[best] else "valid one (none shares the start's free cell)")
            + f" chosen, {dist[best]:.4g} from the start" + _counts(refused))

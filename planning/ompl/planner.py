@@ -441,7 +441,9 @@ def _solve(robot, cls, checker: JointSpaceChecker, start_q, goal_q, time_limit, 
     # gives the same path on any machine.
     restart = (objective == "none" and cls.__name__ in RESTARTABLE and checker.native is not None
                and not checker.extras)
-    deadline = time.perf_counter() + float(time_limit) * (0.7 if roadmap_objective else 1.0)
+    # the roadmap search is part of the budget: the roadmap grows for 70 % of it
+    solve_time = float(time_limit) * (0.7 if roadmap_objective else 1.0)
+    deadline = time.perf_counter() + solve_time
     budget, attempt = RESTART_CHECKS, 0
     while True:
         if attempt:
@@ -455,8 +457,7 @@ def _solve(robot, cls, checker: JointSpaceChecker, start_q, goal_q, time_limit, 
         pl.setup()
         keep.append(pl)
         if not restart:
-            # the roadmap search is part of the budget: the roadmap grows for 70 % of it
-            status = pl.solve(float(time_limit) * (0.7 if roadmap_objective else 1.0))
+            status = pl.solve(solve_time)
             break
         calls = checker.native.motion_calls()
         first, limit = calls(), budget

@@ -49,14 +49,13 @@ def default_grid(bp: BlendedPath, K: int, budget: int, per_piece: int = MIN_INTE
     if k < 1:
         return None
     a, b = ends[short], ends[short + 1]
-    inside = np.zeros(len(uniform), bool)            # uniform points inside (or near) a refined piece
     step = (b - a) / k
     lo_i = np.searchsorted(uniform, a - 0.5 * step, side="left")
     hi_i = np.searchsorted(uniform, b + 0.5 * step, side="right")
     cover = np.zeros(len(uniform) + 1, np.int64)
     np.add.at(cover, lo_i, 1)
     np.add.at(cover, hi_i, -1)
-    inside = np.cumsum(cover[:-1]) > 0
+    inside = np.cumsum(cover[:-1]) > 0               # uniform points inside (or near) a refined piece
     inside[0] = inside[-1] = False
     fine = (a[:, None] + step[:, None] * np.arange(k + 1)[None, :]).ravel()
     s = np.unique(np.r_[uniform[~inside], fine])
