@@ -16,6 +16,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from kin.display import joint_label
 from kin.errors import ChainError, RmtError
 
 __all__ = ["STATE_NAME_RE", "MAX_STATES", "UnknownStateError", "name_problem", "checked_states", "read_states",
@@ -46,11 +47,6 @@ def name_problem(name: Any) -> str | None:
     return f"{name!r} reads as a number; a state name must not"
 
 
-def _joint_text(chain, j: int) -> str:
-    nm = chain.joints[j].name
-    return f"joint {j + 1}" + (f" ({nm})" if nm else "")
-
-
 def values_problem(chain, q_si) -> str | None:
     """Why the SI configuration ``q_si`` cannot be a state of ``chain`` (count, finiteness, limits;
     values said in the chain's file units), or None."""
@@ -59,14 +55,14 @@ def values_problem(chain, q_si) -> str | None:
         return f"has {q.size} values; {chain.name} has {chain.n} joints"
     if not np.all(np.isfinite(q)):
         j = int(np.flatnonzero(~np.isfinite(q))[0])
-        return f"{_joint_text(chain, j)} = {q[j]} is not a finite number"
+        return f"{joint_label(chain, j)} = {q[j]} is not a finite number"
     out = np.flatnonzero((q < chain.lower) | (q > chain.upper))
     if out.size:
         j = int(out[0])
         f = chain.from_si(q)[j]
         lo, hi = chain.from_si(chain.lower)[j], chain.from_si(chain.upper)[j]
         unit = chain.angle_unit if chain.joints[j].is_revolute else chain.length_unit
-        return f"{_joint_text(chain, j)} = {f:.6g} {unit} lies outside its limits [{lo:.6g}, {hi:.6g}] {unit}"
+        return f"{joint_label(chain, j)} = {f:.6g} {unit} lies outside its limits [{lo:.6g}, {hi:.6g}] {unit}"
     return None
 
 

@@ -239,8 +239,7 @@ def collision_geometry(sc, frames: list[np.ndarray], max_capsules: int = 3, pack
     caps = []
     for lk, key, pose, shapes in parts:
         if key is not None:
-            R, p = pose[:3, :3], pose[:3, 3]
-            shapes = tuple((R @ c.a + p, R @ c.b + p, c.radius) for c in fits[key].capsules)
+            shapes = tuple((m.a, m.b, m.radius) for m in (c.moved(pose) for c in fits[key].capsules))
         for a, b, r in shapes:
             caps.append(LinkCapsule(lk.body, _snap(a), _snap(b), float(r), lk.name))
     for c in caps:
