@@ -27,8 +27,8 @@ MASS_KEYS = ("mass_per_length", "motor_mass", "rotor_inertia", "payload")
 MIN_LIMIT, MAX_LIMIT = LIMIT_RANGE
 
 
-def _per_joint(r, raw: Any, field: str, n: int, scale: np.ndarray, lo: float, hi: float, strict: bool) -> np.ndarray:
-    """A number (every joint) or a list of n numbers in (lo, hi] (``strict``) or [lo, hi], times ``scale``."""
+def _per_joint(r, raw: Any, field: str, n: int, scale: np.ndarray, lo: float, hi: float) -> np.ndarray:
+    """A number (every joint) or a list of n numbers in [lo, hi], times ``scale``."""
     vals = [raw] * n if not isinstance(raw, list) else raw
     if len(vals) != n:
         raise r.fail(field, f"must be a number or a list of {n} numbers (one per joint), got {len(vals)}")
@@ -36,8 +36,8 @@ def _per_joint(r, raw: Any, field: str, n: int, scale: np.ndarray, lo: float, hi
     for k, v in enumerate(vals):
         f = field if not isinstance(raw, list) else f"{field}[{k}]"
         x = r.number(v, f)
-        if x < lo or x > hi or (strict and x == lo):
-            raise r.fail(f, f"must be in {'(' if strict else '['}{lo:g}, {hi:g}], got {v}")
+        if x < lo or x > hi:
+            raise r.fail(f, f"must be in [{lo:g}, {hi:g}], got {v}")
         out.append(x * scale[k])
     return np.array(out, float)
 
@@ -63,7 +63,7 @@ def read_cycle(r, raw: Any, robot, targets, ls: float, as_: float) -> CycleSpec:
     lims = {}
     for key, attr, word in (("v_max", "max_velocity", "speed"), ("a_max", "max_acceleration", "acceleration")):
         if key in raw:
-            lims[key] = _per_joint(r, raw[key], f"cycle.{key}", n, unit, MIN_LIMIT, MAX_LIMIT, False)
+            lims[key] = _per_joint(r, raw[key], f"cycle.{key}", n, unit, MIN_LIMIT, MAX_LIMIT)
         else:
             got = _from_robot(chain, attr)
             if got is None:
@@ -71,7 +71,7 @@ def read_cycle(r, raw: Any, robot, targets, ls: float, as_: float) -> CycleSpec:
                                              f"cycle needs its joint {word} limits")
             lims[key] = got
     if "tau_max" in raw:
-        tau = _per_joint(r, raw["tau_max"], "cycle.tau_max", n, np.ones(n), MIN_LIMIT, MAX_LIMIT, False)
+        tau = _per_joint(r, raw["tau_max"], "cycle.tau_max", n, np.ones(n), MIN_LIMIT, MAX_LIMIT)
     else:
         got = [j.max_torque for j in chain.joints]
         tau = np.array([math.nan if v is None else float(v) for v in got])
@@ -94,9 +94,9 @@ def read_cycle(r, raw: Any, robot, targets, ls: float, as_: float) -> CycleSpec:
     m = r.table(raw["masses"], "cycle.masses", MASS_KEYS)
     one = np.ones(n)
     mpl = _per_joint(r, m.get("mass_per_length", 0.0), "cycle.masses.mass_per_length", n, one, 0.0,
-                     MAX_MASS_PER_LENGTH, False)
-    mm = _per_joint(r, m.get("motor_mass", 0.0), "cycle.masses.motor_mass", n, one, 0.0, MAX_PART_MASS, False)
-    ri = _per_joint(r, m.get("rotor_inertia", 0.0), "cycle.masses.rotor_inertia", n, one, 0.0, MAX_PART_MASS, False)
+                     MAX_MASS_PER_LENGTH)
+    mm = _per_joint(r, m.get("motor_mass", 0.0), "cycle.masses.motor_mass", n, one, 0.0, MAX_PART_MASS)
+    ri = _per_joint(r, m.get("rotor_inertia", 0.0), "cycle.masses.rotor_inertia", n, one, 0.0, MAX_PART_MASS)
     pay = r.number(m.get("payload", 0.0), "cycle.masses.payload")
     if not 0 <= pay <= MAX_PART_MASS:
         raise r.fail("cycle.masses.payload", f"must be in [0, {MAX_PART_MASS:g}] kg, got {pay:g}")

@@ -155,7 +155,6 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
                          dataclasses.replace(weights, dexterity_ref=full.dex_ref), SCREEN, dexterity)
     deadline = t_start + max_time
     full.deadline = light.deadline = deadline     # every study stops early past it (after one start), and says so
-    light.cut = []
     cut: list[str] = []
     methods: dict = {}
     verified: list[tuple[str, np.ndarray, ReachStudy]] = []

@@ -3,6 +3,7 @@ the (functional) workspace of a robot."""
 from __future__ import annotations
 
 import kin
+from kin.display import joint_value
 from studies.cli.common import (
     MAX_SIGMA,
     CliInputError,
@@ -62,10 +63,8 @@ def cmd_singularities(args, load_robot) -> int:
 def _width(c, w, v: float | None = None) -> str:
     """A window's half-width (or another joint-space distance ``v`` of it: rad where a revolute joint
     takes part, else m) in the robot file's unit, named: "5°", "2 mm"."""
-    revolute = any(c.joints[j - 1].is_revolute for j in w.joints)
-    x = (w.width if v is None else v) / (c.angle_scale if revolute else c.length_scale)
-    unit = c.angle_unit if revolute else c.length_unit
-    return f"{x:.6g}°" if unit == "deg" else f"{x:.6g} {unit}"
+    j = next((j - 1 for j in w.joints if c.joints[j - 1].is_revolute), w.joints[0] - 1)
+    return joint_value(c, j, w.width if v is None else v)
 
 
 def _windows_text(robot: kin.Robot, ws) -> str:
