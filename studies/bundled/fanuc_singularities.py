@@ -201,14 +201,11 @@ def run(s: Study) -> None:
         # the training runs of the comparison below go to worker processes (a run is single-threaded and
         # seeded: the same reports as one after another) while this process trains the main network
         others = [(n_tr, sd) for n_tr in train_sizes for sd in train_seeds if (n_tr, sd) != (n_train, seed)]
-        pending = LearnedRuns(robot, analysis, others)
-        s.say(f"training the learned IK on {n_train:,} poses"
-              + (f" ({len(others)} more runs in {pending.workers} worker processes)" if pending.workers > 1 else ""))
-        try:
+        with LearnedRuns(robot, analysis, others) as pending:
+            s.say(f"training the learned IK on {n_train:,} poses" + (
+                f" ({len(others)} more runs in {pending.workers} worker processes)" if pending.workers > 1 else ""))
             w_learned, reports = learned_windows(robot, analysis=analysis, seed=seed, n_train=n_train)
             other_reports = dict(zip(others, pending.results(s.say)))
-        finally:
-            pending.close()
         by_kind = {w.kind: w for w in w_learned.windows}
         sets = {"margin": w_margin, "sigma_min": w_sigma, "learned": w_learned}
 

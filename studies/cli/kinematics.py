@@ -141,9 +141,8 @@ def cmd_jacobian(args, load_robot) -> int:
     # the dexterity measures in SI (J in m/s and rad/s per rad/s or m/s), as plan, check-path,
     # validate-toolpath and the σ_min floor give them; J itself is printed in the file's units
     si = r["si"]
-    det = None if r["det"] is None else float(np.asarray(robot.det(q)))
     out = {"J": r["J"], "manipulability": si["manipulability"], "sigma_min": si["sigma_min"],
-           "condition": si["condition"], "det": det, "units": {**unit_names(robot.chain), "J": "robot file units",
+           "condition": si["condition"], "det": si["det"], "units": {**unit_names(robot.chain), "J": "robot file units",
                                                                 "measures": "SI"},
            "task_rows": [["x", "y", "z", "rx", "ry", "rz"][i] for i in robot.task_rows]}
     if args.json:
@@ -154,7 +153,7 @@ def cmd_jacobian(args, load_robot) -> int:
           f"{'/'.join(sorted(set(joint_units(c))))}/s):")
     print(_fmt_matrix(np.array(r["J"])))
     cond = "inf (singular)" if out["condition"] is None else f"{out['condition']:.6g}"
-    det = "n/a (task Jacobian not square)" if det is None else f"{det:.6g}"
+    det = "n/a (task Jacobian not square)" if si["det"] is None else f"{si['det']:.6g}"
     print(f"manipulability {out['manipulability']:.6g}  sigma_min {out['sigma_min']:.6g}  condition {cond}  "
           f"det {det}  (SI: J in m/s and rad/s per rad/s or m/s)")
     return EXIT_OK

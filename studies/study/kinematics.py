@@ -196,7 +196,8 @@ def evaluate_configuration(robot: kin.Robot, q_file) -> dict:
         "det": None if math.isnan(mf[3]) else float(mf[3]),
         "si": {"manipulability": finite_or_none(m_si.manipulability),
                "sigma_min": finite_or_none(m_si.sigma_min),
-               "condition": finite_or_none(m_si.condition)},
+               "condition": finite_or_none(m_si.condition),
+               "det": None if math.isnan(m_si.det) else float(m_si.det)},
         "within_limits": not violations,
         "limit_violations": violations,
     }
