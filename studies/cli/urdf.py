@@ -20,43 +20,29 @@ def _out_path(out: str, suffix: str) -> Path:
 
 
 def _save_checked(chain, out: Path, urdf: str) -> Path:
-    """Write ``chain`` to ``out`` only as a file the robot-file reader loads: the text goes to a hidden
-    sibling (:func:`kin.output.write_output`: parents made), is read back with :func:`kin.load_chain`
-    and must give the same chain, then is renamed to ``out``.  On a refusal nothing is left behind —
-    neither the sibling nor a directory made for it — and one :class:`kin.urdf.UrdfError` names the
-    URDF and the field."""
-    import os
-    import secrets
-
-    import kin
+    """Write ``chain`` to ``out`` only as a file the robot-file reader loads: its text is read back
+    (:func:`kin.robotfile.loads_robot`, within the reader's size cap) and must give the same chain
+    before :func:`kin.output.write_output` writes it (parents made).  On a refusal nothing is written
+    and one :class:`kin.urdf.UrdfError` names the URDF and the field."""
     from kin.errors import RobotFileError
-    from kin.output import check_output, write_output
-    from kin.robotfile import dumps_robot
+    from kin.output import write_output
+    from kin.robotfile import MAX_ROBOT_BYTES, dumps_robot, loads_robot
     from kin.urdf import UrdfError
 
-    made = [d for d in (out.parent, *out.parent.parents) if not d.exists()]
-    tmp = out.parent / f".{out.stem}.{secrets.token_hex(4)}.check{out.suffix}"
+    text = dumps_robot(chain)
     try:
-        write_output(tmp, dumps_robot(chain))
-        try:
-            back = kin.load_chain(tmp)
-        except RobotFileError as e:
-            raise UrdfError(f"the robot file made of it is refused by the robot-file reader ({e.field or 'the file'}: "
-                            f"{str(e).rsplit(': ', 1)[-1]}); nothing written; please report this URDF", urdf) from None
-        if back != chain:
-            raise UrdfError("the robot file made of it reads back as another robot; nothing written; please report "
-                            "this URDF", urdf)
-        check_output(out)                   # the target may have changed meanwhile
-        os.replace(tmp, out)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-            for d in made:                  # innermost first; only the (empty) directories made here
-                try:
-                    d.rmdir()
-                except OSError:
-                    break
-    return out
+        size = len(text.encode("utf-8"))
+        if size > MAX_ROBOT_BYTES:
+            raise RobotFileError(f"{size} bytes; a robot file may have at most {MAX_ROBOT_BYTES // 2**20} MB",
+                                 str(out))
+        back = loads_robot(text, str(out))
+    except RobotFileError as e:
+        raise UrdfError(f"the robot file made of it is refused by the robot-file reader ({e.field or 'the file'}: "
+                        f"{str(e).rsplit(': ', 1)[-1]}); nothing written; please report this URDF", urdf) from None
+    if back != chain:
+        raise UrdfError("the robot file made of it reads back as another robot; nothing written; please report "
+                        "this URDF", urdf)
+    return write_output(out, text)
 
 
 def _packages(items) -> dict[str, str]:
