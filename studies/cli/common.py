@@ -118,6 +118,25 @@ def require_within_limits(robot, P: np.ndarray, where) -> None:
                         f"[{lo:.10g}, {hi:.10g}] {u} ({robot.name})")
 
 
+def leaving_limits(robot, path, shape: str) -> list[tuple[int, str]]:
+    """The joints (0-based) a timed path (``tr.path``, a shaped path with ``joint_range()``) takes
+    beyond the robot's limits (1e-12 SI of slack), each with its sentence in robot file units:
+    "the blend path leaves joint J2's limits [..]: it spans [..] (deg)"."""
+    from studies.units import joint_units
+    c = robot.chain
+    lo, hi = path.joint_range()
+    names, units = c.joint_names(), joint_units(c)
+    lo_f, hi_f, lim_lo, lim_hi = c.from_si(lo), c.from_si(hi), c.from_si(c.lower), c.from_si(c.upper)
+    return [(j, f"the {shape} path leaves joint {names[j]}'s limits [{lim_lo[j]:.6g}, {lim_hi[j]:.6g}]: it spans "
+                f"[{lo_f[j]:.6g}, {hi_f[j]:.6g}] ({units[j]})")
+            for j in range(robot.n) if lo[j] < c.lower[j] - 1e-12 or hi[j] > c.upper[j] + 1e-12]
+
+
+def limits_from(args) -> dict:
+    """Where ``rmt time``'s speed and acceleration limits came from: the options or the robot file."""
+    return {"v_max": "--v-max" if args.v_max else "robot file", "a_max": "--a-max" if args.a_max else "robot file"}
+
+
 def window_width_args(sp, required: bool = False,
                       sigma_help: str = "singular windows from a σ_min threshold (SI)"):
     """Add ``--margin X | --sigma-min S``, the inputs of :func:`windows_from_args`, to a command's

@@ -25,7 +25,7 @@ import numpy as np
 
 from kin.output import write_output
 from kin.validation import Fields
-from studies.cli.common import EXIT_FAIL, CliInputError
+from studies.cli.common import EXIT_FAIL, CliInputError, leaving_limits, limits_from
 from studies.jsonio import dump, finite_or_none
 from studies.units import joint_units
 
@@ -129,15 +129,11 @@ def time_cycle(args, robot, vmax, amax, jmax, taumax, use_robot: bool, csv_text)
         write_output(args.csv, csv_text(robot, seq))
     names = c.joint_names()
     rows, leaving = [], []
-    units = joint_units(c)
     for k, ((name, _, _), tr) in enumerate(zip(moves, seq.moves)):
-        lo, hi = tr.path.joint_range()
-        idx = [j for j in range(robot.n) if lo[j] < c.lower[j] - 1e-12 or hi[j] > c.upper[j] + 1e-12]
-        out = [names[j] for j in idx]
+        beyond = leaving_limits(robot, tr.path, args.shape)
+        out = [names[j] for j, _ in beyond]
         label = f"move {k + 1}" if name == f"move {k + 1}" else f"move {k + 1} ({name})"     # named once
-        lo_f, hi_f, lim_lo, lim_hi = c.from_si(lo), c.from_si(hi), c.from_si(c.lower), c.from_si(c.upper)
-        leaving += [f"{label}: the {args.shape} path leaves joint {names[j]}'s limits [{lim_lo[j]:.6g}, "
-                    f"{lim_hi[j]:.6g}]: it spans [{lo_f[j]:.6g}, {hi_f[j]:.6g}] ({units[j]})" for j in idx]
+        leaving += [f"{label}: {text}" for _, text in beyond]
         rows.append({"name": name, "start_s": float(seq.start[k]), "duration_s": tr.duration,
                      "dwell_s": float(seq.dwell[k]), "end_s": float(seq.start[k] + tr.duration + seq.dwell[k]),
                      "samples": len(tr.t), "solver": tr.qp_status, "dense_overshoot": tr.overshoot,
@@ -148,8 +144,7 @@ def time_cycle(args, robot, vmax, amax, jmax, taumax, use_robot: bool, csv_text)
     summary = {"cycle": str(args.path), "total_s": seq.duration, "moving_s": total_moves,
                "dwell_s": float(seq.dwell.sum()), "samples": len(seq.t), "moves": rows,
                "peak_velocity_ratio": peak_v, "peak_acceleration_ratio": peak_a, "shape": args.shape,
-               "limits_from": {"v_max": "--v-max" if args.v_max else "robot file",
-                               "a_max": "--a-max" if args.a_max else "robot file"},
+               "limits_from": limits_from(args),
                "v_max": c.from_si(vmax).tolist(), "a_max": c.from_si(amax).tolist(),
                "units": {"v_max": "robot file units/s", "a_max": "robot file units/s²", "time": "s"}}
     if args.json:

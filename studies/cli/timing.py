@@ -24,7 +24,16 @@ import sys
 import numpy as np
 
 from kin.output import write_output
-from studies.cli.common import EXIT_FAIL, CliInputError, bounded, numbers, output_file, require_within_limits
+from studies.cli.common import (
+    EXIT_FAIL,
+    CliInputError,
+    bounded,
+    leaving_limits,
+    limits_from,
+    numbers,
+    output_file,
+    require_within_limits,
+)
 from studies.jsonio import dump, finite_or_none
 from studies.units import joint_units
 
@@ -127,8 +136,8 @@ def cmd_time(args, load_robot) -> int:
     if args.path_out:
         from studies.cli.plan import write_path_csv
         write_path_csv(robot, tr.path.polyline(SHAPED_TOLERANCE), args.path_out)
-    lo, hi = tr.path.joint_range()
-    outside = [j for j in range(robot.n) if lo[j] < c.lower[j] - 1e-12 or hi[j] > c.upper[j] + 1e-12]
+    leaving = leaving_limits(robot, tr.path, args.shape)
+    outside = [j for j, _ in leaving]
     names = c.joint_names()
     if args.plot:
         from studies.plots.timing import plot_timing
@@ -153,8 +162,7 @@ def cmd_time(args, load_robot) -> int:
            "path_max_deviation": tr.path.max_deviation, "shape": args.shape,
            "joints_leaving_limits": [names[j] for j in outside],
            "v_max": c.from_si(tr.v_max).tolist(), "a_max": c.from_si(tr.a_max).tolist(),
-           "limits_from": {"v_max": "--v-max" if args.v_max else "robot file",
-                           "a_max": "--a-max" if args.a_max else "robot file"},
+           "limits_from": limits_from(args),
            "units": {"v_max": "robot file units/s", "a_max": "robot file units/s²", "torque": "N·m or N",
                      "path_max_deviation": "SI (rad/m joint-space)"}}
     if args.json:
@@ -182,11 +190,8 @@ def cmd_time(args, load_robot) -> int:
     for f in (args.csv, args.plot, args.path_out):
         if f:
             print(f"wrote {f}")
-    if outside:
-        j = outside[0]
-        print(f"the {args.shape} path leaves joint {names[j]}'s limits [{c.from_si(c.lower)[j]:.6g}, "
-              f"{c.from_si(c.upper)[j]:.6g}]: it spans [{c.from_si(lo)[j]:.6g}, {c.from_si(hi)[j]:.6g}] "
-              f"({units[j]})", file=sys.stderr)
+    if leaving:
+        print(leaving[0][1], file=sys.stderr)
         return EXIT_FAIL
     return 0
 
