@@ -182,9 +182,11 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
         notes.append(note)
     if placeholders:
         notes.append(f"placeholder inertials (mass 0 with a tensor) left out: {', '.join(placeholders)}")
+    states: dict = {}
     if srdf is not None:
-        from kin.urdf.srdf import allowed_body_pairs, disabled_link_pairs
-        disabled = disabled_link_pairs(srdf)
+        from kin.urdf.srdf import allowed_body_pairs, chain_states, disabled_link_pairs, read_root
+        root = read_root(srdf)                   # read and parsed once for the pairs and the states
+        disabled = disabled_link_pairs(srdf, root)
         srdf_name = str(srdf).rsplit("/", 1)[-1]
         if geometry is None:
             notes.append(f"the SRDF {srdf_name} not applied: the chain's links have no collision geometry")
@@ -197,13 +199,9 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
                 more = " …" if len(unknown) > 8 else ""
                 warnings.warn(UrdfWarning(f"{srdf}: disable_collisions names link(s) with no collision geometry on the "
                                           f"chain, ignored: {', '.join(unknown[:8])}{more}"), stacklevel=3)
-    states: dict = {}
-    if srdf is not None:
-        from kin.urdf.srdf import chain_states
-        states, left_out = chain_states(srdf, sc.joints)
+        states, left_out = chain_states(srdf, sc.joints, root)
         if states:
-            notes.append(f"named states from the SRDF {str(srdf).rsplit('/', 1)[-1]}'s group_state elements: "
-                         + ", ".join(states))
+            notes.append(f"named states from the SRDF {srdf_name}'s group_state elements: " + ", ".join(states))
         for note in left_out:
             warnings.warn(UrdfWarning(f"{srdf}: {note}"), stacklevel=3)
     chain = Chain(name=name, joints=tuple(joints), convention="standard", geometry=geometry, states=states,

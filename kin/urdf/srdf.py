@@ -62,9 +62,10 @@ def read_root(path: str | Path) -> ET.Element:
     return root
 
 
-def disabled_link_pairs(path: str | Path) -> set[frozenset[str]]:
-    """The link pairs an SRDF's ``<disable_collisions>`` elements name (each a frozenset of two names)."""
-    root = read_root(path)
+def disabled_link_pairs(path: str | Path, root: ET.Element | None = None) -> set[frozenset[str]]:
+    """The link pairs an SRDF's ``<disable_collisions>`` elements name (each a frozenset of two names);
+    ``root``: the file's element when already read (:func:`read_root`)."""
+    root = read_root(path) if root is None else root
     out = set()
     for k, e in enumerate(root.iter("disable_collisions")):
         a, b = e.get("link1"), e.get("link2")
@@ -102,10 +103,11 @@ class GroupState:
     values: dict[str, float]
 
 
-def group_states(path: str | Path) -> list[GroupState]:
+def group_states(path: str | Path, root: ET.Element | None = None) -> list[GroupState]:
     """The ``<group_state>`` elements of an SRDF, in file order; each needs a name and joints with a
-    name and a finite numeric value, each joint once (:class:`UrdfError` naming the element otherwise)."""
-    root = read_root(path)
+    name and a finite numeric value, each joint once (:class:`UrdfError` naming the element otherwise);
+    ``root``: the file's element when already read (:func:`read_root`)."""
+    root = read_root(path) if root is None else root
     out = []
     for k, e in enumerate(root.iter("group_state")):
         name = e.get("name")
@@ -134,7 +136,8 @@ def group_states(path: str | Path) -> list[GroupState]:
     return out
 
 
-def chain_states(path: str | Path, joints) -> tuple[dict[str, tuple[float, ...]], list[str]]:
+def chain_states(path: str | Path, joints, root: ET.Element | None = None
+                 ) -> tuple[dict[str, tuple[float, ...]], list[str]]:
     """The SRDF's group states that set every one of ``joints`` (the chain's
     :class:`kin.urdf.read.UrdfJoint`, matched by name) as name → configuration (SI, in chain order),
     and one note per state left out or trimmed (why).  Values outside a joint's limits are refused."""
@@ -143,7 +146,7 @@ def chain_states(path: str | Path, joints) -> tuple[dict[str, tuple[float, ...]]
     names = [j.name for j in joints]
     out: dict[str, tuple[float, ...]] = {}
     notes: list[str] = []
-    for gs in group_states(path):
+    for gs in group_states(path, root):
         where = f"group_state {gs.name!r}"
         have = [nm for nm in names if nm in gs.values]
         if len(have) < len(names):
