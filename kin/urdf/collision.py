@@ -254,8 +254,7 @@ def collision_geometry(sc, frames: list[np.ndarray], max_capsules: int = 3, pack
     source = (f"urdf: the <collision> elements of {Path(path).name} ({what}), capsules enclosing each "
               f"(over-estimate {over * 1000:.1f} mm)")
     if sc.held:
-        source += "; the tool carries joints off the chain held at " + ", ".join(
-            f"{name} = {q:.6g} ({how})" for name, q, how in sc.held)
+        source += "; the tool carries joints off the chain held at " + sc.held_text
     if sc.loose_links:
         source += f"; left out, moved by joints off the chain: {', '.join(sc.loose_links)}"
     return RobotGeometry(tuple(caps), frozenset(), source, None, over)

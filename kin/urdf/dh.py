@@ -174,7 +174,7 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
         notes.append("continuous joints get limits of one turn [-pi, pi]")
     if sc.held:
         notes.append("the tool (body n + 1) carries the links of joints off the chain held at "
-                     + ", ".join(f"{nm} = {q:.6g} ({how})" for nm, q, how in sc.held))
+                     + sc.held_text)
     if any(li is not None for li in inertias) or payload is not None:
         note = "inertial values from its <inertial> elements (the tool's: the payload)"
         if sc.loose_masses:

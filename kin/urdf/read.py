@@ -118,6 +118,11 @@ class SerialChain:
             dirs.append(T[:3, :3] @ j.axis)
         return np.array(points), np.array(dirs)
 
+    @property
+    def held_text(self) -> str:
+        """The held joints in words: "finger = 0 (at 0), finger2 = 0.04 (mimic …)"."""
+        return ", ".join(f"{name} = {q:.6g} ({how})" for name, q, how in self.held)
+
 
 def joint_motion(j: UrdfJoint, q: float) -> np.ndarray:
     """The joint's own motion (4, 4): rotation by q about its axis, or translation by q along it."""
