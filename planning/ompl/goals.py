@@ -23,7 +23,7 @@ import numpy as np
 from kin.ik.analytic import NoClosedFormError, analytic_branches, turn_copies
 from planning.certify import FreeCells
 from planning.errors import PlanningError
-from planning.ompl.validity import JointSpaceChecker
+from planning.ompl.validity import REFUSALS, JointSpaceChecker
 
 __all__ = ["GoalPoseError", "REASONS", "goal_from_pose", "wrist_twins"]
 
@@ -100,22 +100,6 @@ def _candidates(robot, pose, start, seed) -> tuple[list[np.ndarray], int, str]:
     return uniq, outside, source
 
 
-def _reason(why: str) -> tuple[str, str]:
-    """A :meth:`JointSpaceChecker.reason` sentence → (category of :data:`REASONS`, detail)."""
-    if "outside its limits" in why:
-        return REASONS[0], why
-    if "singular window" in why:
-        name = why.split("'")[1] if "'" in why else why
-        return REASONS[1], name
-    if why.startswith("σ_min"):
-        return REASONS[2], why
-    if "keep-out box" in why:
-        return REASONS[3], why
-    if why.startswith("in collision"):
-        return REASONS[4], why.split(": ", 1)[-1]
-    return REASONS[1], why
-
-
 def goal_from_pose(robot, pose: np.ndarray, start: np.ndarray, checker: JointSpaceChecker,
                    cells: FreeCells, seed: int, frame: str = "base frame") -> tuple[np.ndarray, dict]:
     """The goal configuration of a tool pose ``pose`` (4×4, the robot's base frame, SI; ``frame`` names
@@ -133,12 +117,12 @@ def goal_from_pose(robot, pose: np.ndarray, start: np.ndarray, checker: JointSpa
     bad: list[tuple[np.ndarray, str, str]] = []          # refused candidates, nearest first
     dist: list[float] = []                                # of the valid ones, ascending
     for d, q in sorted(((float(np.linalg.norm(q - start)), q) for q in cands), key=lambda dq: dq[0]):
-        why = checker.reason([float(x) for x in q])
-        if why is None:
+        refusal = checker.refusal([float(x) for x in q])
+        if refusal is None:
             valid.append(q)
             dist.append(d)
             continue
-        cat, detail = _reason(why)
+        cat, detail = REASONS[REFUSALS.index(refusal[0])], refusal[1]
         refused[cat] += 1
         bad.append((q, cat, detail))
     info = {"frame": frame, "source": source, "candidates": len(cands), "valid": len(valid), "refused": refused}

@@ -50,6 +50,10 @@ class KeepOutBox:
         return np.all((P >= np.asarray(self.lower)) & (P <= np.asarray(self.upper)), axis=1)
 
 
+#: the kinds of :meth:`JointSpaceChecker.refusal`, in the order they are checked
+REFUSALS = ("limits", "window", "sigma_floor", "keep_out", "collision")
+
+
 class JointSpaceChecker:
     """Validity of configurations and straight motions for one robot and set of constraints."""
 
@@ -68,6 +72,7 @@ class JointSpaceChecker:
         self.upper = [float(x) for x in self.chain.upper]
         self.revolute = self.chain.revolute_mask
         self._intervals: list[tuple[int, list[tuple[float, float]]]] = []
+        self._interval_names: list[str] = []      # the interval windows' names, in the order of _intervals
         self._predicates = []
         self._predicate_windows = []    # the same windows, for batches (Window.contains, numpy)
         widths_rev, widths_len = [MAX_MOTION_STEP_ANGLE * 5], [MAX_MOTION_STEP_LENGTH * 5]
@@ -78,6 +83,7 @@ class JointSpaceChecker:
                 (widths_rev if revolute else widths_len).append(2 * w.width if w.width > 0 else math.inf)
                 if w.is_interval:
                     self._intervals.append((w.joint, list(w.intervals)))
+                    self._interval_names.append(w.name)
                 elif getattr(w, "is_point_set", False):     # planning.windows.sampled: 0 exactly inside
                     self._predicates.append((PointSetProver(w).excess, 0.0))
                     self._predicate_windows.append(w)
@@ -115,35 +121,45 @@ class JointSpaceChecker:
     def sigma(self, q) -> float:
         return self.robot.sigma_min(np.asarray(q, dtype=float))
 
-    def reason(self, q) -> str | None:
-        """Why a configuration (SI) is invalid, in words — joint values in the robot file's units with
-        the unit named, σ_min in SI (None when valid)."""
+    def refusal(self, q) -> tuple[str, str, str] | None:
+        """Why a configuration (SI) is invalid: (kind, detail, sentence) — kind one of :data:`REFUSALS`,
+        detail the window's name or the colliding bodies (else the sentence), sentence as
+        :meth:`reason` gives it; None when valid.  The checks run in the order of :data:`REFUSALS`."""
         c = self.chain
         for i, v in enumerate(q):
             if v < self.lower[i] or v > self.upper[i]:
-                return (f"{joint_label(c, i)} = {joint_value(c, i, v)} is outside its limits "
-                        f"{joint_interval(c, i, self.lower[i], self.upper[i])}")
-        names = [w.name for w in self.windows.windows if w.is_interval] if self.windows is not None else []
+                why = (f"{joint_label(c, i)} = {joint_value(c, i, v)} is outside its limits "
+                       f"{joint_interval(c, i, self.lower[i], self.upper[i])}")
+                return "limits", why, why
         for k, (j, ivs) in enumerate(self._intervals):
             v = q[j]
             for lo, hi in ivs:
                 if lo <= v <= hi:
-                    return (f"{joint_label(c, j)} = {joint_value(c, j, v)} is inside the singular window "
-                            f"'{names[k]}' {joint_interval(c, j, lo, hi)}")
+                    name = self._interval_names[k]
+                    return "window", name, (f"{joint_label(c, j)} = {joint_value(c, j, v)} is inside the singular "
+                                            f"window '{name}' {joint_interval(c, j, lo, hi)}")
         for k, (g, eps) in enumerate(self._predicates):
             if abs(g(q)) <= eps:
-                name = [w.name for w in self.windows.windows if not w.is_interval][k]
-                return f"inside the singular window '{name}'"
+                name = self._predicate_windows[k].name
+                return "window", name, f"inside the singular window '{name}'"
         if self.sigma_floor is not None:
             s = self.sigma(q)
             if s < self.sigma_floor:
-                return f"σ_min = {s:.3g} (SI) is below the floor {self.sigma_floor:.3g} (SI)"
+                why = f"σ_min = {s:.3g} (SI) is below the floor {self.sigma_floor:.3g} (SI)"
+                return "sigma_floor", why, why
         if self.boxes and self._in_box(np.asarray(q, dtype=float)[None]).any():
-            return "inside a keep-out box"
+            return "keep_out", "inside a keep-out box", "inside a keep-out box"
         if self.world is not None and not self.world.state_clear(q):
-            c = self.world.nearest(np.asarray(q, dtype=float)[None])
-            return "in collision: " + self.world.describe(int(c.body[0]), int(c.other[0]), float(c.clearance[0]))
+            ct = self.world.nearest(np.asarray(q, dtype=float)[None])
+            what = self.world.describe(int(ct.body[0]), int(ct.other[0]), float(ct.clearance[0]))
+            return "collision", what, "in collision: " + what
         return None
+
+    def reason(self, q) -> str | None:
+        """Why a configuration (SI) is invalid, in words — joint values in the robot file's units with
+        the unit named, σ_min in SI (None when valid)."""
+        r = self.refusal(q)
+        return None if r is None else r[2]
 
     def state_valid(self, q) -> bool:
         if self.native is not None:
