@@ -42,7 +42,7 @@ from design.reach.study import ReachProblem, ReachSettings, ReachStudy
 from design.task.model import Dexterity, Targets, TaskError
 from kin.transforms import matrix_to_rpy
 
-__all__ = ["place", "PlacementResult", "SCREEN", "MAX_GRID", "CURRENT_TIE"]
+__all__ = ["place", "PlacementResult", "SCREEN", "MAX_GRID", "CURRENT_TIE", "CURRENT_BEST"]
 
 #: the light reach study that scores many placements (the verification uses the full settings)
 SCREEN = ReachSettings(starts=2, samples=2048, spins=4, max_iter=100)
@@ -51,6 +51,8 @@ MAX_GRID = 1_000_000
 #: another placement replaces the current one only when its verified value is higher by more than this
 #: share of max(1, |value|) (two studies of equal placements may differ in the last digits)
 CURRENT_TIE = 1e-9
+#: how a note says that no search beat the current placement (the command line words its own line)
+CURRENT_BEST = "the current placement is already the best found"
 
 
 @dataclass
@@ -244,13 +246,13 @@ def place(robot, targets: Targets, cell=None, region: PlacementRegion | None = N
         methods["current"] = _verified("current", u_now, before, time.perf_counter() - t1)
         if before.value >= study.value - CURRENT_TIE * max(1.0, abs(before.value)):
             name, u, study = "current", u_now, before
-            notes.append(f"the current placement is already the best found (coverage {100 * before.coverage:.1f} %, "
+            notes.append(f"{CURRENT_BEST} (coverage {100 * before.coverage:.1f} %, "
                          f"mean score {before.mean_score:.3f}); no search found a better one")
     else:
         notes.append(f"the current placement is not a candidate: {why_not}")
     if time.perf_counter() > deadline:
-        skipped = [m for m, on in (("differential evolution", de_iterations), ("grid", grid)) if on]
-        skipped = [m for m in skipped if m.split()[0] not in {k.split("_")[0] for k in methods}]
+        skipped = [label for label, key, on in (("differential evolution", "differential_evolution", de_iterations),
+                                                ("grid", "grid", grid)) if on and key not in methods]
         notes.append(f"the time budget of {max_time:g} s ran out; the searches stopped early"
                      + (f" ({', '.join(skipped)} not run)" if skipped else "")
                      + "".join(f"; {c}" for c in dict.fromkeys(cut)))

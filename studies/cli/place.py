@@ -77,6 +77,8 @@ def _interval(lo: float, hi: float, scale: float) -> str:
 
 def _summary(res, task, region, ls: float, as_: float) -> list[str]:
     import numpy as np
+
+    from design.place.run import CURRENT_BEST
     lu, au = task.length_unit, task.angle_unit
     study, before = res.study, res.before
     lines = [f"{res.robot}: task {task.name}, {len(study)} targets, "
@@ -100,7 +102,7 @@ def _summary(res, task, region, ls: float, as_: float) -> list[str]:
         lines.append(("  " + "  ".join(cells)).rstrip())
     u = res.u
     if res.current_is_best:
-        lines.append(f"the current placement is already the best found (coverage {100 * study.coverage:.1f} %, "
+        lines.append(f"{CURRENT_BEST} (coverage {100 * study.coverage:.1f} %, "
                      f"mean score {study.mean_score:.3f}); keep the robot where it stands")
     lines.append(f"answer ({res.method}): xyz {' '.join(_fmt(v / ls) for v in u[:3])} {lu}, "
                  f"rpy {' '.join(_fmt(v / as_) for v in u[3:])} {au}")
@@ -118,7 +120,7 @@ def _summary(res, task, region, ls: float, as_: float) -> list[str]:
     missed.pop("reached", None)
     if missed:
         lines.append("unreached at the answer: " + ", ".join(f"{k} {v}" for k, v in missed.items()))
-    lines += [f"note: {n}" for n in (*res.notes, *study.notes) if not n.startswith("the current placement is already")]
+    lines += [f"note: {n}" for n in (*res.notes, *study.notes) if not n.startswith(CURRENT_BEST)]
     return lines
 
 
