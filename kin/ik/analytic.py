@@ -243,6 +243,28 @@ def closed_form(chain: Chain, params=None):
         return arm
 
 
+def _prepare(robot, T, params):
+    """(closed-form arm, target positions, rotations (None for positions alone), single, parameter
+    values) of an IK call."""
+    chain = robot.chain
+    arm = closed_form(chain, None if params is None else chain.parameter_vector(params))
+    Pt, Rt, single = _targets(T, f"for {chain.name}")
+    P = chain.parameter_values if params is None else chain.parameter_vector(params)
+    return arm, Pt, Rt, single, P
+
+
+def _reference(chain, q_ref) -> np.ndarray:
+    """The reference configuration (6,) SI: ``q_ref`` checked, or zero."""
+    return np.zeros(6) if q_ref is None else chain.as_batch(q_ref, "q_ref")[0][0]
+
+
+def _thetas(arm, Tt: np.ndarray, ref: np.ndarray) -> list[np.ndarray]:
+    """The closed form's joint angles θ (offsets included) reaching the pose ``Tt`` (4×4)."""
+    from kin.ik.parallel import ParallelArm, parallel_candidates
+    W = Tt @ arm.tool_inv
+    return parallel_candidates(arm, W, ref + arm.offset) if isinstance(arm, ParallelArm) else _arm_candidates(arm, W)
+
+
 def analytic_ik(robot, T, params=None, q_ref=None, all_turns: bool = False, tol: float = 1e-9):
     """Every IK branch of a 6R arm with a closed form (a spherical wrist, or joints 2, 3, 4 parallel as
     on the UR family, :mod:`kin.ik.parallel`) within the joint limits.
@@ -260,24 +282,16 @@ def analytic_ik(robot, T, params=None, q_ref=None, all_turns: bool = False, tol:
     of reach or every branch is beyond the limits), or a list of such arrays for a batch.  Raises
     :class:`NoClosedFormError` for a chain without a closed form.
     """
-    from kin.ik.parallel import ParallelArm, parallel_candidates
-    chain = robot.chain
-    arm = closed_form(chain, None if params is None else chain.parameter_vector(params))
-    Pt, Rt, single = _targets(T, f"for {chain.name}")
+    arm, Pt, Rt, single, P = _prepare(robot, T, params)
     if Rt is None:
         raise NoClosedFormError("analytic IK needs a pose target (4, 4); a position alone has a continuum of solutions")
-    P = chain.parameter_values if params is None else chain.parameter_vector(params)
-    ref = np.zeros(6) if q_ref is None else chain.as_batch(q_ref, "q_ref")[0][0]
+    ref = _reference(robot.chain, q_ref)
     results = []
     for p, R in zip(Pt, Rt):
         Tt = np.eye(4)
         Tt[:3, :3], Tt[:3, 3] = R, p
-        W = Tt @ arm.tool_inv
-        if isinstance(arm, ParallelArm):
-            thetas = parallel_candidates(arm, W, ref + arm.offset)
-        else:
-            thetas = _arm_candidates(arm, W)
-        cands = [q for th in thetas for q in _into_limits(th - arm.offset, arm.lower, arm.upper, ref, False)]
+        cands = [q for th in _thetas(arm, Tt, ref)
+                 for q in _into_limits(th - arm.offset, arm.lower, arm.upper, ref, False)]
         Q = _verified(robot, cands, Tt, P, arm, tol, ref)
         if all_turns and len(Q):
             Q = _dedup([c for q in Q for c in _into_limits(q, arm.lower, arm.upper, ref, True)], ref)
@@ -290,19 +304,13 @@ def analytic_branches(robot, T, params=None, q_ref=None, tol: float = 1e-9) -> n
     branch once, as the whole-turn copy nearest ``q_ref`` (default 0), verified by FK to ``tol``,
     sorted by distance to ``q_ref``.  An empty result means out of reach.  Raises
     :class:`NoClosedFormError` as :func:`analytic_ik`."""
-    from kin.ik.parallel import ParallelArm, parallel_candidates
-    chain = robot.chain
-    arm = closed_form(chain, None if params is None else chain.parameter_vector(params))
-    Pt, Rt, single = _targets(T, f"for {chain.name}")
+    arm, Pt, Rt, single, P = _prepare(robot, T, params)
     if Rt is None or not single:
         raise NoClosedFormError("analytic branches need one pose target (4, 4)")
-    P = chain.parameter_values if params is None else chain.parameter_vector(params)
-    ref = np.zeros(6) if q_ref is None else chain.as_batch(q_ref, "q_ref")[0][0]
+    ref = _reference(robot.chain, q_ref)
     Tt = np.eye(4)
     Tt[:3, :3], Tt[:3, 3] = Rt[0], Pt[0]
-    W = Tt @ arm.tool_inv
-    thetas = parallel_candidates(arm, W, ref + arm.offset) if isinstance(arm, ParallelArm) else _arm_candidates(arm, W)
-    cands = [ref + np.mod(th - arm.offset - ref + math.pi, 2 * math.pi) - math.pi for th in thetas]
+    cands = [ref + np.mod(th - arm.offset - ref + math.pi, 2 * math.pi) - math.pi for th in _thetas(arm, Tt, ref)]
     unlimited = replace(arm, lower=np.full(6, -np.inf), upper=np.full(6, np.inf))   # the polish clips nothing
     return _verified(robot, cands, Tt, P, unlimited, tol, ref)
 
