@@ -142,6 +142,9 @@ class Chain:
     sigma_floor: float | None = None
     #: named configurations ("home"), SI, each inside the limits (:mod:`kin.states`; a robot file's [states])
     states: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
+    #: meshes a viewer draws on the bodies (:class:`kin.visual.VisualMesh`; a robot file's [visual]) and their source
+    visual: tuple = ()
+    visual_source: str = ""
 
     def __post_init__(self):
         if not self.joints:
@@ -178,6 +181,10 @@ class Chain:
             if rigidity_defect(T) > 1e-6:
                 raise ChainError(f"{label} placement is not a rigid transform (rotation not orthonormal with "
                                  f"det +1, or bottom row not [0, 0, 0, 1])")
+        wrong = [v.body for v in self.visual if not 0 <= v.body <= self.n + 1]
+        if wrong:
+            raise ChainError(f"visual: a mesh on body {wrong[0]}; the bodies of a {self.n}-joint chain are "
+                             f"0 (base) … {self.n + 1} (tool)")
         if self.geometry is not None:
             bodies = [c.body for c in getattr(self.geometry, "capsules", ())]
             wrong = [b for b in bodies if not 0 <= b <= self.n + 1]
@@ -349,6 +356,9 @@ class Chain:
     def _moved_geometry(self, chain: "Chain", transforms: Mapping[int, np.ndarray]) -> "Chain":
         """``chain`` (this machine in other DH frames) with this chain's capsules: body k's capsule
         points mapped by ``transforms[k]`` (4×4, old frame k → new frame k; absent: unchanged)."""
+        if self.visual:
+            from kin.visual import moved_visual
+            chain = replace(chain, visual=moved_visual(self.visual, transforms))
         g = self.geometry
         if g is None:
             return chain

@@ -35,7 +35,7 @@ from kin.validation import Fields, type_name
 
 ROBOT_DIR = Path(__file__).parent / "robots"
 TOP_FIELDS = ("name", "title", "source", "convention", "length_unit", "angle_unit", "joints", "base",
-              "tool", "parameters", "task", "geometry", "payload", "gravity", "sigma_floor", "states")
+              "tool", "parameters", "task", "geometry", "payload", "gravity", "sigma_floor", "states", "visual")
 REQUIRED_TOP = ("name", "convention", "length_unit", "angle_unit", "joints")
 JOINT_FIELDS = ("type", "a", "alpha", "d", "theta", "limits", "name", "max_velocity", "max_acceleration",
                 "max_torque", "inertial")
@@ -284,6 +284,10 @@ def loads_robot(text: str, path: str | None = None) -> Chain:
     if "states" in doc:
         from kin.states import read_states
         chain = replace(chain, states=read_states(r, doc["states"], chain))
+    if "visual" in doc:
+        from kin.visual import read_visual
+        meshes, vsource = read_visual(r, doc["visual"], chain, ls, as_, path)
+        chain = replace(chain, visual=meshes, visual_source=vsource)
     return chain
 
 
@@ -527,8 +531,9 @@ def _key(k: str) -> str:
     return k if k and all(ch.isascii() and (ch.isalnum() or ch in "_-") for ch in k) else _str(k)
 
 
-def dumps_robot(chain: Chain) -> str:
-    """Robot-file text for ``chain``, written in the chain's own units."""
+def dumps_robot(chain: Chain, directory: str | Path | None = None) -> str:
+    """Robot-file text for ``chain``, written in the chain's own units; ``directory``: where the file
+    goes, which its [visual] mesh files are named relative to (absolute paths without it)."""
     ls, as_ = LENGTH_UNITS[chain.length_unit], ANGLE_UNITS[chain.angle_unit]
     out = [f"name = {_str(chain.name)}"]
     if chain.title:
@@ -586,6 +591,9 @@ def dumps_robot(chain: Chain) -> str:
     out += state_lines(chain, lambda x, s: _fmt(_to_file(x, s)))
     if chain.geometry is not None:
         out += _geometry_lines(chain, ls)
+    if chain.visual:
+        from kin.visual import visual_lines
+        out += visual_lines(chain, _fmt, _vec, directory)
     return "\n".join(out) + "\n"
 
 
@@ -626,7 +634,7 @@ def _geometry_lines(chain: Chain, ls: float) -> list[str]:
 def save_robot(chain: Chain, path: str | Path) -> Path:
     """Write ``chain`` as a robot file with :func:`kin.output.write_output` (atomic; never replaces
     anything but a regular file; missing parent directories are created)."""
-    return write_output(path, dumps_robot(chain))
+    return write_output(path, dumps_robot(chain, Path(path).parent))
 
 
 def with_units(chain: Chain, length_unit: str | None = None, angle_unit: str | None = None) -> Chain:

@@ -129,7 +129,7 @@ def dh_frames(points: np.ndarray, dirs: np.ndarray, tip: np.ndarray) -> list[np.
 
 def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str | None = None,
                       collision: bool = True, max_capsules: int = 3, package_dirs=None, search: str = "fast",
-                      progress=None, srdf=None) -> Chain:
+                      progress=None, srdf=None, visual: bool = True) -> Chain:
     """The rmtkit chain (SI; lengths in m, angles in rad) of a URDF serial chain, same FK.
 
     ``convention`` is "standard" or "modified"; ``name`` defaults to the URDF robot's name made
@@ -139,7 +139,8 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
     maps package names to directories, ``progress(stage, done, total)`` hears of each mesh).  The
     links' <inertial> elements become the bodies' inertial models (:mod:`kin.urdf.inertial`).  Every
     number is one a robot file holds (:mod:`kin.urdf.writable`).  ``srdf``: a MoveIt SRDF whose disabled
-    collision pairs leave body pairs unchecked (:mod:`kin.urdf.srdf`).
+    collision pairs leave body pairs unchecked (:mod:`kin.urdf.srdf`).  With ``visual`` the links'
+    <visual> meshes are kept for viewers (:mod:`kin.urdf.visual`, the chain's ``visual``).
     """
     if convention not in ("standard", "modified"):
         raise UrdfError(f"convention {convention!r} unknown; allowed: standard, modified", sc.path)
@@ -208,7 +209,12 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
                   title=f"{sc.robot_name or name}, {sc.base} to {sc.tip} (imported from URDF)", source="; ".join(notes),
                   base=_placement(base), tool=_placement(tool), payload=payload)
     chain = chain.to_modified() if convention == "modified" else chain
-    return writable(chain, sc, chain_scale([*frames, tip]))
+    chain = writable(chain, sc, chain_scale([*frames, tip]))
+    if visual:
+        from kin.urdf.visual import visual_meshes
+        meshes, vsource = visual_meshes(sc, chain, package_dirs)
+        chain = replace(chain, visual=meshes, visual_source=vsource)
+    return chain
 
 
 def _placement(T: np.ndarray) -> Placement:

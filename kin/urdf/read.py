@@ -63,13 +63,15 @@ class RigidLink:
     to it), k (moved by the chain's joint k), n + 1 (the tool: every link below the last joint's own
     link, through fixed joints and held joints off the chain); ``pose`` its frame in the base link's
     frame at q = 0 (held joints at their held values); ``collisions`` its <collision> elements
-    (yourdfpy's); ``inertial`` its <inertial> (yourdfpy's or None)."""
+    (yourdfpy's); ``inertial`` its <inertial> (yourdfpy's or None); ``visuals`` its <visual> elements
+    (yourdfpy's, a referenced material's colour filled in)."""
 
     name: str
     body: int
     pose: np.ndarray
     collisions: tuple = ()
     inertial: object | None = None
+    visuals: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -294,12 +296,27 @@ def _rigid_links(robot, base: str, path_joints, parent_joint, children, path: st
             else:
                 continue
             stack.append(other)
-    links = tuple(RigidLink(name, b, T, tuple(by_name[name].collisions or ()), by_name[name].inertial)
+    links = tuple(RigidLink(name, b, T, tuple(by_name[name].collisions or ()), by_name[name].inertial,
+                            _visuals(robot, by_name[name]))
                   for name, (b, T) in found.items())
     loose = tuple(lk.name for lk in robot.links if lk.name not in found and lk.collisions)
     loose_masses = tuple(lk.name for lk in robot.links if lk.name not in found and lk.inertial is not None
                          and lk.inertial.mass)
     return links, loose, loose_masses, tuple(held)
+
+
+def _visuals(robot, link) -> tuple:
+    """The link's <visual> elements, a material given by name only (defined at the robot's level)
+    given its colour."""
+    from dataclasses import replace
+    named = {m.name: m for m in (robot.materials or ()) if m.name}
+    out = []
+    for v in link.visuals or ():
+        m = v.material
+        if m is not None and m.color is None and m.name in named:
+            v = replace(v, material=named[m.name])
+        out.append(v)
+    return tuple(out)
 
 
 def _held_positions(robot, on_path: dict[str, int], path: str):

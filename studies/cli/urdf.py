@@ -29,7 +29,7 @@ def _save_checked(chain, out: Path, urdf: str) -> Path:
     from kin.robotfile import MAX_ROBOT_BYTES, dumps_robot, loads_robot
     from kin.urdf import UrdfError
 
-    text = dumps_robot(chain)
+    text = dumps_robot(chain, out.parent)          # [visual] mesh files named relative to the robot file
     try:
         size = len(text.encode("utf-8"))
         if size > MAX_ROBOT_BYTES:
