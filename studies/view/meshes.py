@@ -75,19 +75,24 @@ def decimate(V: np.ndarray, F: np.ndarray, budget: int) -> tuple[np.ndarray, np.
     size = float(np.max(hi_ - lo_)) or 1.0
 
     def cluster(cell: float):
-        key = np.floor((V - lo_) / cell).astype(np.int64)
-        _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+        cells = np.floor((V - lo_) / cell).astype(np.int64)
+        m = int(cells.max()) + 1                          # ≤ 4097 cells a side: one int64 key per vertex
+        _, inverse, counts = np.unique((cells[:, 0] * m + cells[:, 1]) * m + cells[:, 2], return_inverse=True,
+                                       return_counts=True)
         inverse = inverse.reshape(-1)
         sums = np.zeros((len(counts), 3))
         np.add.at(sums, inverse, V)
         G = inverse[F]
         keep = (G[:, 0] != G[:, 1]) & (G[:, 1] != G[:, 2]) & (G[:, 0] != G[:, 2])
-        G = np.unique(np.sort(G[keep], axis=1), axis=0, return_index=True)[1]
-        return sums / counts[:, None], inverse[F][keep][np.sort(G)]
+        G = G[keep]
+        S = np.sort(G, axis=1)
+        k = len(counts)
+        first = np.unique((S[:, 0] * k + S[:, 1]) * k + S[:, 2], return_index=True)[1]   # one of each triangle
+        return sums / counts[:, None], G[np.sort(first)]
 
     lo, hi = size / 4096, size / 4
     best = cluster(hi)
-    for _ in range(14):
+    for _ in range(10):
         mid = math.sqrt(lo * hi)
         W, T = cluster(mid)
         if len(T) <= budget:
