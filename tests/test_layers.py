@@ -29,8 +29,9 @@ STUDIES_PARTS = {
     "studies.study": {"studies", "studies.report", "studies.plots", "studies.toolpaths"},
     "studies.bundled": {"studies", "studies.study", "studies.report", "studies.plots", "studies.toolpaths"},
     "studies.benchmarks": {"studies"},
+    "studies.export": {"studies"},
     "studies.cli": {"studies", "studies.study", "studies.report", "studies.plots", "studies.toolpaths",
-                    "studies.bundled"},
+                    "studies.bundled", "studies.export"},
 }
 #: folders of ``studies`` that hold data only, no Python: bundled sweep files, design tasks, work cells
 STUDIES_DATA = {"studies.sweeps", "studies.tasks", "studies.cells"}

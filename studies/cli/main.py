@@ -21,6 +21,7 @@ import kin
 from studies.cli import (
     cell,
     design,
+    export,
     follow,
     ik,
     kinematics,
@@ -39,8 +40,8 @@ from studies.cli.common import EXIT_OK, EXIT_USAGE
 from studies.cli.tcp import TCP_COMMANDS, robot_loader, tcp_args
 
 #: the command groups, in the order ``rmt --help`` lists their commands
-GROUPS = (kinematics, ik, singular, plan, timing, cell, scene, toolpath, follow, study, design, reach, place, sweep,
-          urdf)
+GROUPS = (kinematics, ik, singular, plan, timing, export, cell, scene, toolpath, follow, study, design, reach, place,
+          sweep, urdf)
 
 
 class UsageError(Exception):

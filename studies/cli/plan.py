@@ -18,6 +18,7 @@ from studies.cli.common import (
     bounded,
     cell_args,
     joint_values,
+    limits_from,
     output_file,
     positions,
     sampled_windows_note,
@@ -80,8 +81,10 @@ def cmd_plan(args, load_robot) -> int:
     from planning.collision.report import nearest_json
     from planning.ompl.planner import plan
     output_file(args.out)
+    output_file(args.trajectory_out)
     robot = require_task_rows(load_robot(args.robot))
     c = robot.chain
+    timing = _timing_limits(robot, args)
     start = joint_values(robot, args.start, "--start")
     goal = goal_pose = None
     if args.goal is not None:
@@ -115,6 +118,9 @@ def cmd_plan(args, load_robot) -> int:
     path_file = robot.chain.from_si(res.path) if res.success else np.zeros((0, robot.n))
     if args.out and res.success:
         write_path_csv(robot, res.path, args.out)
+    timed = None
+    if res.success and timing is not None:
+        timed = _time_path(robot, res.path, timing, args.trajectory_out, limits_from(args))
     out = {"success": res.success, "path": path_file.tolist(), "planner": res.planner, "time_s": res.time_s,
            "length": finite_or_none(res.length),
            "min_sigma": finite_or_none(dense.min_sigma if res.success else res.min_sigma),
@@ -134,7 +140,7 @@ def cmd_plan(args, load_robot) -> int:
            {k: v for k, v in res.goal_branch.items() if k != "q"},
            "goal_frame": None if goal_pose is None else frame,
            "keep_out_boxes": len(boxes),
-           "sigma_floor": floor.to_dict(), "margin": args.margin,
+           "sigma_floor": floor.to_dict(), "margin": args.margin, "timing": timed,
            "units": {"path": "robot file units", "length": "joint-space length, SI (rad/m)", "min_sigma": "SI",
                      "min_clearance": "m"}}
     if args.json:
@@ -163,8 +169,13 @@ def cmd_plan(args, load_robot) -> int:
                 print(f"collisions with the cell and the robot itself: {res.check.collision_check}; min clearance "
                       f"{dense.min_clearance * 1e3:.4g} mm (proven ≥ {(dense.clearance_bound or 0.0) * 1e3:.4g} mm)")
                 print("  " + "; ".join(dense.nearest.lines()))      # the cell apart from the robot's own pairs
-            if args.out:
-                print(f"wrote {args.out}")
+            if timed is not None:
+                print(f"timed rest to rest, stopping at every waypoint: {timed['duration_s']:.6g} s "
+                      f"({timed['samples']} samples; speeds from {timed['limits_from']['v_max']}, accelerations "
+                      f"from {timed['limits_from']['a_max']})")
+            for f in (args.out, args.trajectory_out):
+                if f:
+                    print(f"wrote {f}")
         elif res.separation is not None or res.goal is None:
             print(res.status + (f"; σ_min floor: {floor.text}" if res.separation is not None
                                 and res.separation.kind == "sign" else ""))
@@ -172,6 +183,32 @@ def cmd_plan(args, load_robot) -> int:
             print(f"no path found by {res.planner} within {args.time_limit:g} s ({res.status}); σ_min floor: "
                   f"{floor.text}")
     return 0 if res.success else 1
+
+
+def _timing_limits(robot, args):
+    """(v_max, a_max) SI for ``--time``/``--trajectory-out`` (as ``rmt time``'s: the options, else the robot
+    file's), checked before planning; None when the path is not to be timed."""
+    if not (args.time or args.trajectory_out):
+        for opt, val in (("--v-max", args.v_max), ("--a-max", args.a_max)):
+            if val is not None:
+                raise CliInputError(f"{opt} applies with --time or --trajectory-out only")
+        return None
+    from studies.cli.timelimits import limits_or_defaults
+    return limits_or_defaults(robot, args.v_max, args.a_max)
+
+
+def _time_path(robot, path_si: np.ndarray, limits, out: str | None, source: dict) -> dict:
+    """Time the planned path rest to rest with no corner blends (``rmt time --blend 0``: the trajectory
+    stops at every waypoint, so it is the path the planner checked) and write it as a trajectory file."""
+    from kin.dynamics.rnea import has_inertia
+    from planning.timing import time_parameterize
+    from studies.export.trajectory import trajectory_csv_text
+    tr = time_parameterize(path_si, limits[0], limits[1], blend=0.0,
+                           robot=robot if has_inertia(robot.chain) else None)
+    if out:
+        write_output(out, trajectory_csv_text(robot, tr.t, tr.q, tr.qd, tr.qdd, tr.tau))
+    return {"duration_s": tr.duration, "samples": len(tr.t), "blend": 0.0, "trajectory": out,
+            "limits_from": source}
 
 
 def _keep_out(chain, args) -> list:
@@ -281,6 +318,14 @@ def add_commands(add) -> None:
                     help="optimisation objective for optimising planners (default none)")
     sigma_floor_args(sp, "keep σ_min ≥ S (SI) along the path, proven segment by segment")
     sp.add_argument("--out", metavar="PATH.csv", help="write the path as CSV (robot file units)")
+    sp.add_argument("--time", action="store_true", help="time the path found rest to rest, stopping at every "
+                                                        "waypoint (rmt time --blend 0), and report its duration")
+    sp.add_argument("--trajectory-out", metavar="TRAJ.csv", help="write that timed trajectory as a trajectory file "
+                                                                 "(rmt export-trajectory reads it); implies --time")
+    sp.add_argument("--v-max", nargs="+", metavar="V", help="with --time: joint speed limits, file units/s (default: "
+                                                           "the joints' max_velocity)")
+    sp.add_argument("--a-max", nargs="+", metavar="A", help="with --time: joint acceleration limits, file units/s² "
+                                                           "(default: the joints' max_acceleration)")
     sp = add("check-path", cmd_check_path, "check a joint path (CSV) densely; exit 0 valid, 1 invalid")
     sp.add_argument("robot", metavar="ROBOT", help="bundled name or path to a robot .toml file")
     sp.add_argument("path", metavar="PATH.csv", help="one configuration per row, robot file units")

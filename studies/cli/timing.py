@@ -16,8 +16,6 @@ A ``.toml`` path argument is a cycle file: several moves with dwells, timed into
 (:mod:`studies.cli.timecycle`)."""
 from __future__ import annotations
 
-import csv
-import io
 import math
 import sys
 
@@ -26,87 +24,28 @@ import numpy as np
 from kin.output import write_output
 from studies.cli.common import (
     EXIT_FAIL,
-    CliInputError,
     bounded,
     leaving_limits,
     limits_from,
-    numbers,
     output_file,
     require_within_limits,
 )
+from studies.cli.timelimits import limits_or_defaults, per_joint
 from studies.jsonio import dump, finite_or_none
 from studies.units import joint_units
 
 #: the path shapes of planning.timing.time_parameterize (``SHAPES``; not imported here: ``rmt --help``
 #: must not load scipy or CasADi)
 SHAPES = ("blend", "spline")
-#: the unit of each limit option (its values must lie in planning.timing.limits.LIMIT_RANGE, as a task's
-#: ``[cycle]`` limits)
-LIMIT_UNITS = {"--v-max": "robot file units/s", "--a-max": "robot file units/s²", "--j-max": "robot file units/s³",
-               "--tau-max": "N·m or N"}
 #: largest joint-space distance (rad or m) between the shaped path and the polyline ``--path-out`` writes
 SHAPED_TOLERANCE = 1e-4
 
 
-def _per_joint(robot, raw, what: str, unit_power: int, default_attr: str | None) -> np.ndarray | None:
-    """A limit per joint from the command line (one value for all, or one per joint; robot file units
-    per s^unit_power → SI), or from the joints' ``default_attr`` (SI) when all are known; None else."""
-    c = robot.chain
-    if raw is None:
-        if default_attr is None:
-            return None
-        known = [getattr(j, default_attr, None) for j in c.joints]
-        return None if any(v is None for v in known) else np.array(known, float)
-    v = numbers(raw, what)
-    if len(v) not in (1, robot.n):
-        raise CliInputError(f"{what}: got {len(v)} values; give one for every joint or {robot.n} "
-                            f"(one per joint of {robot.name})")
-    arr = np.full(robot.n, v[0]) if len(v) == 1 else np.array(v)
-    from planning.timing.limits import LIMIT_RANGE, limit_out_of_range
-    k = limit_out_of_range(arr)
-    if k is not None:
-        unit = LIMIT_UNITS[what]
-        which = "" if len(v) == 1 else f" (joint {c.joint_names()[k]})"
-        raise CliInputError(f"{what}: {v[0 if len(v) == 1 else k]:g}{which} is outside the allowed range "
-                            f"[{LIMIT_RANGE[0]:g}, {LIMIT_RANGE[1]:g}] ({unit})")
-    return arr if unit_power == 0 else c.to_si(arr)
-
-
-def limits_or_defaults(robot, v_raw, a_raw) -> tuple[np.ndarray, np.ndarray]:
-    """``--v-max`` and ``--a-max`` (robot file units) → SI, each defaulting to the robot file's
-    ``max_velocity``/``max_acceleration``; one line naming the option (and its unit) when neither is there."""
-    units = sorted(set(f"{u}/s" for u in joint_units(robot.chain)))
-    out = []
-    for raw, name, attr, word, power in ((v_raw, "--v-max", "max_velocity", "speeds", ""),
-                                         (a_raw, "--a-max", "max_acceleration", "accelerations", "²")):
-        v = _per_joint(robot, raw, name, 1, attr)
-        if v is None:
-            missing = [robot.chain.joint_names()[j] for j, jt in enumerate(robot.chain.joints)
-                       if getattr(jt, attr) is None]
-            which = "" if len(missing) == robot.n else f" for joint(s) {', '.join(missing)}"
-            raise CliInputError(f"{robot.name} has no published {word}{which} (its robot file gives no {attr}): "
-                                f"give {name} {name[2].upper()} ({', '.join(u + power for u in units)}; one value "
-                                f"for every joint or one per joint)")
-        out.append(v)
-    return out[0], out[1]
-
-
 def _csv(robot, tr) -> str:
-    """The sampled trajectory: t, q, q̇, q̈ (robot file units), τ (N·m, N) when known."""
-    c = robot.chain
-    n = robot.n
-    head = ["t"] + [f"q{j}" for j in range(1, n + 1)] + [f"qd{j}" for j in range(1, n + 1)] + \
-        [f"qdd{j}" for j in range(1, n + 1)]
-    cols = [tr.t[:, None], c.from_si(tr.q), c.from_si(tr.qd), c.from_si(tr.qdd)]
-    if tr.tau is not None:
-        head += [f"tau{j}" for j in range(1, n + 1)]
-        cols.append(tr.tau)
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(head)
-    for row in np.hstack(cols):
-        w.writerow([repr(float(x)) for x in row])
-    return buf.getvalue()
+    """The sampled trajectory as a trajectory file (:mod:`studies.export.trajectory`): t, q, q̇, q̈ (robot
+    file units), τ (N·m, N) when known."""
+    from studies.export.trajectory import trajectory_csv_text
+    return trajectory_csv_text(robot, tr.t, tr.q, tr.qd, tr.qdd, tr.tau)
 
 
 def cmd_time(args, load_robot) -> int:
@@ -122,8 +61,8 @@ def cmd_time(args, load_robot) -> int:
     cycle = is_cycle_file(args.path)
     P = None if cycle else read_path_csv(robot, args.path)
     vmax, amax = limits_or_defaults(robot, args.v_max, args.a_max)
-    jmax = _per_joint(robot, args.j_max, "--j-max", 1, None)
-    taumax = _per_joint(robot, args.tau_max, "--tau-max", 0, None)
+    jmax = per_joint(robot, args.j_max, "--j-max", 1, None)
+    taumax = per_joint(robot, args.tau_max, "--tau-max", 0, None)
     use_robot = taumax is not None or has_inertia(c)
     if P is not None:                     # after the options' one-line errors
         require_within_limits(robot, P, lambda i: f"{args.path}: data row {i + 1}")

@@ -28,6 +28,6 @@ def test_plan_out_and_time_csv_use_lf(tmp_path, capsys):
     out = tmp_path / "t.csv"
     assert main(["time", "planar_2r", str(path), "--v-max", "1", "--a-max", "2", "--csv", str(out)]) == 0
     data = out.read_bytes()
-    assert data.startswith(b"t,q1,q2,qd1,qd2,qdd1,qdd2")
+    assert data.startswith(b"# rmtkit trajectory 1\n") and b"\nt,q1,q2,qd1,qd2,qdd1,qdd2\n" in data
     _lines_ok(data, data.count(b"\n"))
     capsys.readouterr()

@@ -60,7 +60,7 @@ waypoints = ["test_configuration", {HOME}]
     assert [m["name"] for m in R["moves"]] == ["to pick", "move 2", "move 3"]
     assert [m["dwell_s"] for m in R["moves"]] == [0.5, 1.25, 0.0]
     # the written trajectory: from HOME to HOME, continuous, within the limits, at rest while dwelling
-    rows = list(csv.reader(out.open()))
+    rows = [r for r in csv.reader(out.open()) if not r[0].startswith("#")]        # the trajectory file's notes
     X = np.array(rows[1:], float)
     t, q, qd, qdd = X[:, 0], X[:, 1:7], X[:, 7:13], X[:, 13:19]
     assert rows[0][:2] == ["t", "q1"] and t[0] == 0 and t[-1] == pytest.approx(R["total_s"], rel=1e-12)
