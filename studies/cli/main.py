@@ -35,13 +35,14 @@ from studies.cli import (
     timing,
     toolpath,
     urdf,
+    view,
 )
 from studies.cli.common import EXIT_OK, EXIT_USAGE
 from studies.cli.tcp import TCP_COMMANDS, robot_loader, tcp_args
 
 #: the command groups, in the order ``rmt --help`` lists their commands
 GROUPS = (kinematics, ik, singular, plan, timing, export, cell, scene, toolpath, follow, study, design, reach, place,
-          sweep, urdf)
+          sweep, urdf, view)
 
 
 class UsageError(Exception):

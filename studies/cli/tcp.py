@@ -9,7 +9,7 @@ import sys
 
 #: the commands whose answers depend on the tool point (poses, Jacobians, σ_min): they take --tcp
 TCP_COMMANDS = frozenset({"fk", "jacobian", "ik", "workspace", "windows", "singularities", "plan", "check-path",
-                          "reach", "place", "follow", "validate-toolpath", "coverage"})
+                          "reach", "place", "follow", "validate-toolpath", "coverage", "view"})
 
 
 def tcp_args(sp) -> None:
