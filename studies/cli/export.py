@@ -95,7 +95,7 @@ def cmd_export(args, load_robot) -> int:
         except ValueError as e:
             raise CliInputError(f"--rate {rate:g}: {e}") from None
         q, qd, qdd = interpolate.evaluate(traj, times)
-        checks += [("position", times, q), ("velocity", times, qd)]
+        checks += [("position", times, q), ("velocity", times, qd), ("acceleration", times, qdd)]
     breach = first_breach(robot, checks)
     if breach is not None:
         print(f"{traj.source}: {breach}", file=sys.stderr)

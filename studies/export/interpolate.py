@@ -38,8 +38,8 @@ def evaluate(traj, times) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     c3 = 4.0 * dq - h * dv
     c4 = h * dv - 3.0 * dq
     Q = q0 + u * (v0 * h + u * (0.5 * a0 * h * h + u * (c3 + u * c4)))
-    V = (v0 * h + u * (a0 * h * h + u * (3.0 * c3 + u * 4.0 * c4))) / h
-    A = (a0 * h * h + u * (6.0 * c3 + u * 12.0 * c4)) / (h * h)
+    V = v0 + u * (a0 * h + u * (3.0 * c3 + u * 4.0 * c4) / h)
+    A = a0 + u * (6.0 * c3 + u * 12.0 * c4) / (h * h)
     end = tt >= t[-1]                      # the last sample itself, not the last quartic at u = 1
     Q[end], V[end], A[end] = q[-1], v[-1], a[-1]
     return Q, V, A

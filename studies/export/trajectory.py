@@ -196,8 +196,8 @@ def read_trajectory(robot, path: str | Path, max_bytes: int = MAX_TRAJECTORY_BYT
     dt = np.diff(t)
     if not np.all(dt > 0):
         i = int(np.argmax(~(dt > 0)))
-        raise TrajectoryFileError(f"{path}: line {linenos[i + 1]}: t = {t[i + 1]!r} s is not after the previous "
-                                  f"sample's {t[i]!r} s; times must increase strictly")
+        raise TrajectoryFileError(f"{path}: line {linenos[i + 1]}: t = {float(t[i + 1])!r} s is not after the previous "
+                                  f"sample's {float(t[i])!r} s; times must increase strictly")
     n = robot.n
     scale = np.where(robot.chain.revolute_mask, ANGLE_UNITS[meta.get("angle_unit", robot.chain.angle_unit)],
                      LENGTH_UNITS[meta.get("length_unit", robot.chain.length_unit)])
