@@ -116,11 +116,11 @@ def read_trajectory_csv(robot, path: str | Path) -> tuple[np.ndarray, np.ndarray
     head = [h.strip() for h in rows[0]]
     want = ["t"] + [f"q{j}" for j in range(1, robot.n + 1)]
     missing = [w for w in want if w not in head]
-    if missing:
-        nq = sum(1 for h in head if h[:1] == "q" and h[1:].isdigit())
-        why = f"; it has {nq} joint column(s)" if nq != robot.n else ""
-        raise TrajectoryFileError(f"{path}: header lacks column(s) {', '.join(missing)} ({robot.name} has "
-                                  f"{robot.n} joints: t, q1 … q{robot.n}, as rmt time --out writes){why}")
+    nq = sum(1 for h in head if h[:1] == "q" and h[1:].isdigit())
+    if missing or nq != robot.n:
+        what = f"lacks column(s) {', '.join(missing)}" if missing else f"has {nq} joint columns (q1 … q{nq})"
+        raise TrajectoryFileError(f"{path}: header {what}; {robot.name} has {robot.n} joints: t, q1 … q{robot.n}, as "
+                                  f"rmt time --out writes")
     cols = [head.index(w) for w in want]
     T, Q = [], []
     for k, row in enumerate(rows[1:], 2):

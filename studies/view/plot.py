@@ -40,6 +40,7 @@ def profile_figure(model, timeline, m: int = PLOT_SAMPLES):
         fig.add_vrect(x0=a, x1=b if b > a else a + 1e-9 * max(1.0, abs(a)), fillcolor="#9467bd", opacity=0.25,
                       line_width=0, annotation_text="window")
     fig.update_layout(margin=dict(l=40, r=40, t=10, b=30), height=260, legend=dict(orientation="h", y=-0.25),
-                      xaxis=dict(title=f"timeline ({timeline.unit})"), yaxis=dict(title="σ_min (SI)", rangemode="tozero"),
+                      xaxis=dict(title=f"timeline ({timeline.unit})"),
+                      yaxis=dict(title="σ_min (SI)", rangemode="tozero"),
                       yaxis2=dict(title="clearance (mm)", overlaying="y", side="right", showgrid=False))
     return fig
