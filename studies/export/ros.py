@@ -45,4 +45,4 @@ def yaml_text(msg: dict, notes: list[str]) -> str:
 
 def json_text(msg: dict, notes: list[str]) -> str:
     """The message as one JSON object; ``notes`` go in a ``"_comment"`` list (JSON has no comments)."""
-    return json.dumps({"_comment": notes, **msg}, indent=1, allow_nan=False) + "\n"
+    return json.dumps({"_comment": notes, **msg}, allow_nan=False) + "\n"

@@ -227,3 +227,22 @@ def test_time_and_plan_write_files_that_export(tmp_path, capsys):
         assert R["format"] == fmt and R["robot"] == "ur5e" and (tmp_path / f"x.{fmt}").exists()
     rc, out, err = _run(capsys, "plan", "ur5e", "--start", "home", "--goal", "home", "--a-max", "1")
     assert rc == 2 and "--a-max applies with --time or --trajectory-out only" in err
+
+
+def test_the_pages_excerpts_are_what_the_commands_write(tmp_path, capsys, monkeypatch):
+    """docs/export.md shows the trajectory file and a limit breach as text (not run by the doc examples):
+    made by its own commands."""
+    from pathlib import Path
+    page = (Path(__file__).resolve().parents[3] / "docs" / "export.md").read_text()
+    monkeypatch.chdir(tmp_path)
+    assert main(["plan", "ur5e", "--start", "0", "-90", "90", "-90", "-90", "0", "--goal", "45", "-60", "80", "-110",
+                 "-90", "45", "--a-max", "150", "--out", "path.csv", "--trajectory-out", "traj.csv"]) == 0
+    assert main(["time", "ur5e", "path.csv", "--v-max", "250", "--a-max", "1000", "--out", "fast.csv"]) == 0
+    capsys.readouterr()
+    assert main(["export-trajectory", "ur5e", "fast.csv", "--format", "ros"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert f"```text\n{err}\n```" in page
+    block = re.search(r"```text\n(# rmtkit trajectory 1\n.*?)```", page, re.S).group(1).splitlines()
+    written = Path("traj.csv").read_text().splitlines()
+    assert block[:-1] == written[:len(block) - 1]
+    assert block[-1].endswith(",...") and written[len(block) - 1].startswith(block[-1][:-3])
