@@ -42,7 +42,8 @@ def _check_port(host: str, port: int) -> None:
 
 def cmd_view(args, load_robot) -> int:
     try:
-        import viser  # noqa: F401 - only probes that the extra is installed
+        if getattr(args, "html", None) is None:      # --html writes a page: no server, no viser
+            import viser  # noqa: F401 - only probes that the extra is installed
     except ImportError:
         print(f"rmt: error: {INSTALL_HINT}", file=sys.stderr)
         return EXIT_USAGE
@@ -52,7 +53,12 @@ def cmd_view(args, load_robot) -> int:
     from studies.view.readouts import LiveModel
     from studies.view.scene import initial_configuration
     robot = require_task_rows(load_robot(args.robot))
-    if args.port != 0:
+    if args.html is not None:
+        from kin.output import check_output
+        if not args.html.endswith(".html"):
+            raise CliInputError(f"--html {args.html!r} must end in .html")
+        check_output(args.html)
+    elif args.port != 0:
         _check_port(args.host, args.port)
     args.self_collision = True                          # the robot against itself, always
     world = world_from_args(robot, args)
@@ -87,6 +93,8 @@ def cmd_view(args, load_robot) -> int:
     q0 = configuration(robot, args.q, "--q") if args.q else None
     if q0 is None and timeline is not None:
         q0 = timeline.Q[0]
+    if getattr(args, "html", None) is not None:
+        return _write_html(args, robot, world, q0, timeline, study, cell_meshes)
     from studies.view.server import ViewServer
     try:
         view = ViewServer(model, initial_configuration(robot, q0), host=args.host, port=args.port,
@@ -134,6 +142,22 @@ def _serve(view) -> int:
     return EXIT_OK
 
 
+def _write_html(args, robot, world, q0, timeline, study, cell_meshes) -> int:
+    """``--html OUT.html``: the scene as one self-contained page (:mod:`studies.view.html`)."""
+    from studies.view.html import write_view_html
+    reach = ()
+    if study is not None:
+        from studies.view.targets import target_colours
+        colours = [f"rgb({r},{g},{b})" for r, g, b in target_colours(study)]
+        reach = (("reach targets", study.positions, colours),)
+    trajectory = (timeline.t, timeline.Q) if timeline is not None and timeline.timed else None
+    path = timeline.Q if timeline is not None and not timeline.timed else None
+    out = write_view_html(robot, world, path=path, trajectory=trajectory, reach=reach, out=args.html, q=q0,
+                          cell_meshes=cell_meshes)
+    print(f"rmt view: {robot.name} written to {out} (one self-contained page: open it in any browser)")
+    return EXIT_OK
+
+
 def add_commands(add) -> None:
     sp = add("view", cmd_view, "the robot in its cell, live in the browser: joint sliders, tool pose, σ_min, "
                                "clearance and windows read out, IK handle on the tool, path playback, reach targets "
@@ -159,6 +183,8 @@ def add_commands(add) -> None:
     sp.add_argument("--port", type=bounded(0, 65535, "", integer=True), default=DEFAULT_PORT, metavar="P",
                     help=f"the port (default {DEFAULT_PORT}; 0: any free port)")
     sp.add_argument("--no-browser", action="store_true", help="do not open a web browser; only print the URL")
+    sp.add_argument("--html", metavar="OUT.html", help="write the scene as one self-contained HTML page (no server, "
+                                                      "no network: for reports and people without Python) and exit")
 
 
 __all__ = ["add_commands", "cmd_view", "DEFAULT_PORT"]

@@ -26,7 +26,8 @@ from studies.jointpath import densify
 from studies.report.view3d import add_path_controls, frame_step
 
 __all__ = ["cell_view", "capsule_mesh", "shape_mesh", "spheres_mesh", "triangles_mesh", "robot_mesh",
-           "obstacle_mesh", "closest_segments", "contact_world", "CLOSEST", "MAX_MESH_TRIANGLES", "MAX_SPHERES",
+           "obstacle_mesh", "closest_segments",
+           "robot_parts", "placed_parts", "contact_world", "CLOSEST", "MAX_MESH_TRIANGLES", "MAX_SPHERES",
            "MAX_ANIMATION_FRAMES", "CAPSULE_SEGMENTS"]
 
 #: a mesh obstacle with more triangles than this is drawn as its spheres
@@ -39,6 +40,8 @@ MAX_ANIMATION_FRAMES = 48
 CAPSULE_SEGMENTS, CAPSULE_RINGS = 12, 3
 #: vertices around a cylinder obstacle
 CYLINDER_SEGMENTS = 32
+#: triangles a mesh file of the robot's real shape keeps in a view, and frames of its animation
+SHAPE_BUDGET, SHAPE_FRAMES = 1_500, 32
 #: points of the tool's trace along the path
 TRACE_POINTS = 240
 ROBOT_COLOUR, TOOL_COLOUR, FRAME_COLOUR = "#e0a800", "#4d4d4d", "#333333"
@@ -211,6 +214,33 @@ def _join(parts) -> tuple[np.ndarray, np.ndarray]:
     return np.vstack(Vs), np.vstack(Fs)
 
 
+def robot_parts(geometry, bodies, shape=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The robot's ``bodies`` as one mesh in their own frames: vertices (k, 3) each in its body's DH
+    frame (m), triangles (m, 3), and each vertex's body (k,).  A body drawn by ``shape`` (a list of
+    :class:`studies.view.meshes.BodyMesh`, the real shape) has its meshes, any other its capsules."""
+    have = {m.body for m in shape or ()}
+    capsuled = {b for b in bodies if b not in have}
+    caps = [c.body for c in geometry.capsules if c.body in capsuled]
+    eye = np.broadcast_to(np.eye(4), (max(bodies, default=0) + 1, 4, 4))
+    V, F = robot_mesh(geometry, eye, capsuled)                  # the capsules, in the geometry's order
+    parts = [(V, F)]
+    which = [np.repeat(np.asarray(caps, np.int64), len(V) // max(1, len(caps)))]   # a capsule's vertices: a count
+    for m in shape or ():
+        if m.body in bodies and len(m.vertices):
+            parts.append((np.asarray(m.vertices, float), np.asarray(m.faces, np.int64)))
+            which.append(np.full(len(m.vertices), m.body))
+    V, F = _join(parts)
+    return V, F, np.concatenate(which)
+
+
+def placed_parts(parts, frames) -> np.ndarray:
+    """The vertices of :func:`robot_parts` in the world, each moved by its body's frame (``frames``
+    (n + 2, 4, 4): :func:`kin.geometry.body_frames` of one configuration)."""
+    V, _, body = parts
+    M = np.asarray(frames, float)[body]
+    return np.einsum("kij,kj->ki", M[:, :3, :3], V) + M[:, :3, 3]
+
+
 def robot_mesh(geometry, frames, bodies=None) -> tuple[np.ndarray, np.ndarray]:
     """The capsules of a :class:`kin.geometry.RobotGeometry` placed by body ``frames`` (n + 2, 4, 4;
     :func:`kin.geometry.body_frames` of one configuration), those of ``bodies`` only when given, as one
@@ -292,13 +322,14 @@ def _mesh_dict(U: _Units, V, F) -> dict:
     return dict(x=x, y=y, z=z, i=F[:, 0].tolist(), j=F[:, 1].tolist(), k=F[:, 2].tolist())
 
 
-def _robot_data(world, U: _Units, q, contact: dict | None, closest, with_faces: bool) -> list[dict]:
-    """The animated traces' data at ``q``: links, tool, frames, closest approach."""
-    n = world.chain.n
+def _robot_data(world, U: _Units, q, contact: dict | None, closest, with_faces: bool, parts) -> list[dict]:
+    """The animated traces' data at ``q``: links, tool (``parts``: their :func:`robot_parts`), frames,
+    closest approach; None: the capsules, placed in the world)."""
     Fr = body_frames(world.chain, np.asarray(q, float)[None], world.base)[0]
     out = []
-    for bodies in (set(range(n + 1)), {n + 1}):
-        V, F = robot_mesh(world.geometry, Fr, bodies)
+    n = world.chain.n
+    for k, bodies in enumerate((set(range(n + 1)), {n + 1})):
+        V, F = robot_mesh(world.geometry, Fr, bodies) if parts is None else (placed_parts(parts[k], Fr), parts[k][1])
         d = _mesh_dict(U, V, F)
         if not with_faces:                       # a frame moves the vertices; the triangles stay
             d = {key: d[key] for key in ("x", "y", "z")}
@@ -326,7 +357,8 @@ def _scene_ranges(points: np.ndarray, margin: float) -> list[list[float]]:
 
 
 def cell_view(world, q=None, *, path=None, meshes=None, title: str = "", closest: str | None = "all", tip=None,
-              points=(), frames: int = MAX_ANIMATION_FRAMES, path_name: str = "tool path", bounds=None):
+              points=(), frames: int = MAX_ANIMATION_FRAMES, path_name: str = "tool path", bounds=None,
+              shape="auto"):
     """A plotly figure of ``world`` (a :class:`planning.collision.CollisionWorld`): its obstacles, the
     robot's capsules and DH frames at ``q`` (SI; default: the path's first waypoint) and the closest
     approach there — a line between the two nearest points, red when they are not clear (by the
@@ -340,7 +372,11 @@ def cell_view(world, q=None, *, path=None, meshes=None, title: str = "", closest
     drawn along it (``path_name`` in the legend).  ``meshes``: original triangles of mesh obstacles
     by name (``cell.meshes``); ``points``: further markers, (name, positions (K, 3) in the world (m),
     colour) each; ``bounds``: the scene's box ((3, 2) world, m; default: the robot over the path and
-    the markers, with a margin — obstacles reaching out of it are cut at its faces).
+    the markers, with a margin — obstacles reaching out of it are cut at its faces).  ``shape``: the
+    robot's real shape drawn instead of its capsules — "auto" (its meshes where known,
+    :func:`studies.view.meshes.visual_meshes` decimated to :data:`SHAPE_BUDGET` triangles a file, and
+    the animation then at most :data:`SHAPE_FRAMES` frames), a list of
+    :class:`~studies.view.meshes.BodyMesh`, or None (capsules).
     """
     import plotly.graph_objects as go
 
@@ -350,6 +386,14 @@ def cell_view(world, q=None, *, path=None, meshes=None, title: str = "", closest
         raise ValueError(f"closest={closest!r}: one of {', '.join(CLOSEST)} or None")
     U = _Units(chain)
     meshes = meshes or {}
+    if isinstance(shape, str):
+        from studies.view.meshes import visual_meshes
+        shape = visual_meshes(chain, budget=SHAPE_BUDGET) if shape == "auto" else None
+    if shape:
+        frames = min(frames, SHAPE_FRAMES)
+    n = chain.n
+    parts = (robot_parts(world.geometry, set(range(n + 1)), shape),
+             robot_parts(world.geometry, {n + 1}, shape)) if shape else None
     Q = None if path is None or not len(path) else np.asarray(path, float)
     q = (Q[0] if Q is not None else np.zeros(chain.n)) if q is None else np.asarray(q, float)
     anim, active = None, 0
@@ -362,9 +406,9 @@ def cell_view(world, q=None, *, path=None, meshes=None, title: str = "", closest
     contacts = closest_segments(world, shown, closest) if closest else [None] * len(shown)
     c0 = contacts[active]
 
-    names = ["robot links (capsules)", "tool", "DH frames",
+    names = ["robot links (meshes)" if shape else "robot links (capsules)", "tool", "DH frames",
              "closest approach" + {"all": "", "cell": " to the cell", "self": " within the robot", None: ""}[closest]]
-    data0 = _robot_data(world, U, q, c0, closest, with_faces=True)
+    data0 = _robot_data(world, U, q, c0, closest, with_faces=True, parts=parts)
     traces = [go.Mesh3d(**data0[0], color=ROBOT_COLOUR, opacity=0.8, flatshading=True, name=names[0],
                         showlegend=True, hoverinfo="name"),
               go.Mesh3d(**data0[1], color=TOOL_COLOUR, opacity=0.9, flatshading=True, name=names[1],
@@ -380,8 +424,8 @@ def cell_view(world, q=None, *, path=None, meshes=None, title: str = "", closest
 
     # the scene: the robot over every shown configuration, the tool's trace and the markers
     Fs = body_frames(chain, shown, world.base)
-    roi = [robot_mesh(world.geometry, F)[0] for F in Fs[:: max(1, len(Fs) // 12)]] + [robot_mesh(world.geometry,
-                                                                                               Fs[active])[0]]
+    roi = [robot_mesh(world.geometry, F)[0] if parts is None else np.vstack([placed_parts(p, F) for p in parts])
+           for F in [*Fs[:: max(1, len(Fs) // 12)], Fs[active]]]
     tip_local = np.zeros(3) if tip is None else np.asarray(tip, float)
     if Q is not None:
         dense = densify(Q, TRACE_POINTS) if len(Q) > 1 else Q
@@ -421,7 +465,7 @@ def cell_view(world, q=None, *, path=None, meshes=None, title: str = "", closest
     if anim is not None and len(anim) > 1:
         for k, qk in enumerate(anim):
             label = f"{100 * k / (len(anim) - 1):.0f}"
-            d = _robot_data(world, U, qk, contacts[k], closest, with_faces=False)
+            d = _robot_data(world, U, qk, contacts[k], closest, with_faces=False, parts=parts)
             fr = [go.Mesh3d(**d[0]), go.Mesh3d(**d[1]), go.Scatter3d(**d[2])]
             if closest:
                 fr.append(go.Scatter3d(**d[3]))
