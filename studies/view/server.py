@@ -55,6 +55,7 @@ class ViewServer:
         self._lock = threading.RLock()
         self._syncing = False
         self._playing = False
+        self._player = None
         self._stop = threading.Event()
         with contextlib.redirect_stdout(io.StringIO()):     # viser's banner: rmt view prints its own line
             self.server = viser.ViserServer(host=host, port=port, verbose=False)
@@ -247,11 +248,14 @@ class ViewServer:
     def toggle_play(self) -> None:
         if self._playing:
             self._playing = False
+            if self._player is not None:
+                self._player.join(timeout=2.0)
             self.play.label = "play"
             return
         self._playing = True
         self.play.label = "pause"
-        threading.Thread(target=self._run_playback, daemon=True).start()
+        self._player = threading.Thread(target=self._run_playback, daemon=True)
+        self._player.start()
 
     def _run_playback(self) -> None:
         tl = self.timeline
@@ -265,12 +269,15 @@ class ViewServer:
             now = time.monotonic()
             s = min(s + (now - last) * speed, float(tl.t[-1]))
             last = now
-            self._syncing = True
-            try:
-                self.time_slider.value = s
-            finally:
-                self._syncing = False
-            self.set_q(tl.at(s))
+            with self._lock:
+                if not self._playing:
+                    break
+                self._syncing = True
+                try:
+                    self.time_slider.value = s
+                finally:
+                    self._syncing = False
+                self.set_q(tl.at(s))
             if s >= tl.t[-1]:
                 break
         self._playing = False
