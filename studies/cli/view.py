@@ -6,6 +6,7 @@ the command runs.  The server listens on 127.0.0.1 unless ``--host`` says otherw
 (exit 0)."""
 from __future__ import annotations
 
+import errno
 import signal
 import socket
 import sys
@@ -34,8 +35,10 @@ def _check_port(host: str, port: int) -> None:
             s.bind(addr)
             s.listen(1)
         except OSError as e:
-            busy = e.errno in (98, 48)            # EADDRINUSE (Linux, macOS)
-            why = "in use: another program listens there" if busy else (e.strerror or str(e))
+            if e.errno == errno.EADDRNOTAVAIL:
+                raise CliInputError(f"--host {host}: not an address of this machine ({e.strerror}); give one of its "
+                                    "addresses (default 127.0.0.1)") from None
+            why = "in use: another program listens there" if e.errno == errno.EADDRINUSE else (e.strerror or str(e))
             raise CliInputError(f"--port {port}: cannot listen on {host}:{port} ({why}); choose another with "
                                 f"--port P (0: any free port)") from None
 
@@ -109,8 +112,14 @@ def cmd_view(args, load_robot) -> int:
     url = f"http://{host}:{view.port}"
     for text in view.notes[:1] + notes:
         print(f"note: {text}", file=sys.stderr)
-    print(f"rmt view: {robot.name}{' in ' + (world.name or args.cell) if args.cell else ''} at {url} "
-          "(Ctrl-C stops)", flush=True)
+    if args.json:
+        from studies.jsonio import dump
+        print(dump({"url": url, "host": args.host, "port": view.port, "robot": robot.name,
+                    "cell": (world.name or args.cell) if args.cell else None, "notes": view.notes[:1] + notes}),
+              flush=True)
+    else:
+        print(f"rmt view: {robot.name}{' in ' + (world.name or args.cell) if args.cell else ''} at {url} "
+              "(Ctrl-C stops)", flush=True)
     if not args.no_browser:
         import webbrowser
         try:

@@ -238,6 +238,8 @@ def test_busy_port_bad_host_and_default_host_are_refused_or_local():
     assert code == 2 and f"--port {port}" in err and "in use" in err and len(err.strip().splitlines()) == 1
     code, err = run(["view", "planar_2r", "--host", "no-such-host.invalid", "--port", "8080", "--no-browser"])
     assert code == 2 and "--host no-such-host.invalid" in err and len(err.strip().splitlines()) == 1
+    code, err = run(["view", "planar_2r", "--host", "192.0.2.1", "--port", "8080", "--no-browser"])   # TEST-NET-1
+    assert code == 2 and "--host 192.0.2.1: not an address of this machine" in err
     code, err = run(["view", "planar_2r", "--port", "70000"])
     assert code == 2 and "--port" in err
 
