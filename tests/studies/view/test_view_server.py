@@ -124,3 +124,32 @@ def test_play_advances_the_timeline_and_pause_stops_it(view):
     time.sleep(0.3)
     assert 0.0 < s < 1.0 and float(v.time_slider.value) == s          # a path plays over 8 s; paused, it stays
     assert np.allclose(v.q, v.timeline.at(s), atol=1e-12)
+
+
+def test_a_real_shape_is_drawn_and_the_checkbox_shows_the_capsules():
+    from studies.view.meshes import visual_meshes
+    from studies.view.server import ViewServer
+    robot = kin.load_robot("franka_panda")
+    meshes = visual_meshes(robot)
+    if not meshes:
+        pytest.skip("no real shape of the Panda here (example-robot-data missing)")
+    model = LiveModel(robot, collision_world(robot, None))
+    v = ViewServer(model, np.clip(np.zeros(robot.n), robot.chain.lower, robot.chain.upper), host="127.0.0.1",
+                   port=0)
+    try:
+        with_mesh = {m.body for m in meshes}
+        assert {p.body for p in v.meshes} == with_mesh and not v.capsules.value
+        hidden = [h for h, p in v.robot_nodes if p.kind == "capsules" and p.body in with_mesh]
+        assert hidden and not any(h.visible for h in hidden)
+        assert all(h.visible for h, p in v.robot_nodes if p.kind == "mesh")
+        v.capsules.value = True
+        assert all(h.visible for h in hidden)
+        # the meshes ride on their bodies: the node of body k has body k's pose
+        q = np.clip(np.full(robot.n, 0.3), robot.chain.lower, robot.chain.upper)
+        v.set_q(q)
+        from kin.geometry import body_frames
+        F = body_frames(robot.chain, q[None])[0]
+        for b in with_mesh:
+            assert np.allclose(v.frames[b].position, F[b][:3, 3], atol=1e-9)
+    finally:
+        v.stop()
