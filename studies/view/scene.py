@@ -6,7 +6,6 @@ puts them into viser."""
 from __future__ import annotations
 
 import math
-import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -125,7 +124,3 @@ def nearest_to_ray(points: np.ndarray, origin, direction) -> int:
     d = d / np.linalg.norm(d)
     t = np.clip((P - o) @ d, 0.0, None)
     return int(np.argmin(np.linalg.norm(P - (o + t[:, None] * d), axis=1)))
-
-
-def note(text: str) -> None:
-    print(f"note: {text}", file=sys.stderr)
