@@ -19,7 +19,7 @@ Mesh files are referenced, not copied: a saved robot file names them relative to
 when the two share a directory below the file system's root (so a robot file kept beside its URDF
 package moves with it), absolutely otherwise.  The structure is checked when the robot file loads (one
 :class:`~kin.errors.RobotFileError` naming the field); the files themselves are read only by a viewer
-(:mod:`studies.view.meshes`), which draws the capsules instead of a mesh that is missing or not in a
+(:mod:`studies.shape.meshes`), which draws the capsules instead of a mesh that is missing or not in a
 format it reads (:data:`MESH_SUFFIXES`), saying so in one line.  Poses are SI in the chain; the chain's
 convention changes move them with the body frames (:meth:`kin.chain.Chain.to_modified`).
 """
@@ -32,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from kin.chain import Placement
+from kin.placement import Placement
 
 __all__ = ["VisualMesh", "MESH_SUFFIXES", "MAX_VISUAL_MESHES", "VISUAL_FIELDS", "MESH_FIELDS", "read_visual",
            "visual_lines", "moved_visual"]
@@ -58,10 +58,9 @@ class VisualMesh:
     name: str = ""
 
 
-def read_visual(r, raw: Any, chain, ls: float, as_: float, path: str | None) -> tuple[tuple[VisualMesh, ...], str]:
-    """The [visual] table → (meshes, source); ``r`` the robot file's reader (its fail, number, vector…)."""
-    from kin.robotfile import _body, _placement
-
+def read_visual(r, raw: Any, body_of, placement_of, path: str | None) -> tuple[tuple[VisualMesh, ...], str]:
+    """The [visual] table → (meshes, source); ``r`` the robot file's reader (its fail, number, vector…),
+    ``body_of(value, field)`` a body's number, ``placement_of(table or None, field)`` a placement (SI)."""
     r.table(raw, "visual", VISUAL_FIELDS)
     source = r.string(raw["source"], "visual.source") if "source" in raw else ""
     items = raw.get("mesh", [])
@@ -77,7 +76,7 @@ def read_visual(r, raw: Any, chain, ls: float, as_: float, path: str | None) -> 
         for k in ("body", "file"):
             if k not in t:
                 raise r.fail(f"{fld}.{k}", "missing required field")
-        body = _body(r, t["body"], f"{fld}.body", chain)
+        body = body_of(t["body"], f"{fld}.body")
         name = r.string(t["file"], f"{fld}.file")
         if not name or "\x00" in name or "://" in name:
             raise r.fail(f"{fld}.file", f"{name!r} must be a file path (relative to the robot file, or absolute)")
@@ -87,7 +86,7 @@ def read_visual(r, raw: Any, chain, ls: float, as_: float, path: str | None) -> 
         file = Path(name)
         if not file.is_absolute() and root is not None:
             file = root / file
-        pose = _placement(r, {k: t[k] for k in ("xyz", "rpy") if k in t} or None, fld, ls, as_)
+        pose = placement_of({k: t[k] for k in ("xyz", "rpy") if k in t} or None, fld)
         scale = (1.0, 1.0, 1.0)
         if "scale" in t:
             s = r.vector(t["scale"], f"{fld}.scale", 3)
@@ -105,13 +104,12 @@ def read_visual(r, raw: Any, chain, ls: float, as_: float, path: str | None) -> 
     return tuple(out), source
 
 
-def visual_lines(chain, fmt, vec, directory: str | Path | None = None) -> list[str]:
-    """The [visual] table's lines (``fmt``/``vec`` the robot file's number writers); files relative to
-    ``directory`` when given (the saved file's), else as held (absolute once loaded from a file)."""
-    from kin.chain import ANGLE_UNITS, LENGTH_UNITS
-    from kin.robotfile import _str, body_label
-
-    ls, as_ = LENGTH_UNITS[chain.length_unit], ANGLE_UNITS[chain.angle_unit]
+def visual_lines(chain, vec, string, label_of, ls: float, as_: float,
+                 directory: str | Path | None = None) -> list[str]:
+    """The [visual] table's lines (``vec``, ``string`` the robot file's writers, ``label_of(body)`` a
+    body's name, ``ls``/``as_`` its units); files relative to ``directory`` when given (the saved
+    file's), else as held (absolute once loaded from a file)."""
+    _str, body_label = string, (lambda _chain, b: label_of(b))
     out = ["", "[visual]"]
     if chain.visual_source:
         out.append(f"source = {_str(chain.visual_source)}")

@@ -24,14 +24,17 @@ LAYERS = ["kin", "planning", "design", "studies"]     # each may import only tho
 STUDIES_PARTS = {
     "studies": set(),
     "studies.toolpaths": set(),
-    "studies.report": {"studies"},
+    "studies.shape": {"studies"},
+    "studies.report": {"studies", "studies.shape"},
     "studies.plots": {"studies"},
-    "studies.study": {"studies", "studies.report", "studies.plots", "studies.toolpaths"},
-    "studies.bundled": {"studies", "studies.study", "studies.report", "studies.plots", "studies.toolpaths"},
+    "studies.study": {"studies", "studies.shape", "studies.report", "studies.plots", "studies.toolpaths"},
+    "studies.bundled": {"studies", "studies.shape", "studies.study", "studies.report", "studies.plots",
+                        "studies.toolpaths"},
     "studies.benchmarks": {"studies"},
     "studies.export": {"studies"},
+    "studies.view": {"studies", "studies.shape", "studies.report", "studies.plots", "studies.export"},
     "studies.cli": {"studies", "studies.study", "studies.report", "studies.plots", "studies.toolpaths",
-                    "studies.bundled", "studies.export"},
+                    "studies.bundled", "studies.export", "studies.view", "studies.shape"},
 }
 #: folders of ``studies`` that hold data only, no Python: bundled sweep files, design tasks, work cells
 STUDIES_DATA = {"studies.sweeps", "studies.tasks", "studies.cells"}

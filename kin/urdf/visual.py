@@ -31,7 +31,7 @@ def visual_meshes(sc, chain, package_dirs=None) -> tuple[tuple, str]:
 
     F0 = body_frames(chain, np.zeros(chain.n))[0]
     inv = [np.linalg.inv(F) for F in F0]
-    out, skipped, other = [], [], 0
+    out, skipped, other, first = [], [], 0, ""
     for lk in sc.links:
         for i, v in enumerate(lk.visuals):
             g = v.geometry
@@ -50,8 +50,7 @@ def visual_meshes(sc, chain, package_dirs=None) -> tuple[tuple, str]:
                     raise UrdfError("its <origin> holds a NaN or infinite value", sc.path, where)
             except UrdfError as e:
                 skipped.append(lk.name)
-                warnings.warn(UrdfWarning(f"{e}; that visual mesh is left out (drawn as the body's capsules)"),
-                              stacklevel=3)
+                first = first or str(e)
                 continue
             rgba = None
             m = v.material
@@ -61,6 +60,10 @@ def visual_meshes(sc, chain, package_dirs=None) -> tuple[tuple, str]:
             pose = pose_placement(inv[lk.body] @ lk.pose @ origin)
             out.append(VisualMesh(lk.body, str(Path(file).resolve()), pose, tuple(float(x) for x in scale), rgba,
                                   lk.name))
+    if skipped:                         # one warning for them all: a URDF without its visual files is common
+        more = f" (and {len(skipped) - 1} more, on links {', '.join(dict.fromkeys(skipped))})" if len(skipped) > 1 else ""
+        warnings.warn(UrdfWarning(f"{first}{more}; visual meshes left out (drawn as the bodies' capsules)"),
+                      stacklevel=3)
     if len(out) > min(MAX_VISUALS, MAX_VISUAL_MESHES):
         raise UrdfError(f"the chain's links hold {len(out)} visual meshes; at most {MAX_VISUALS} are kept", sc.path)
     if not out:

@@ -104,18 +104,12 @@ def joint_values(robot: kin.Robot, values: Sequence[str], what: str = "joint val
 def require_within_limits(robot, P: np.ndarray, where) -> None:
     """Refuse a path (M, n) SI with a joint value outside the robot's limits (1e-12 SI of slack): one line
     naming ``where(i)`` (i the 0-based index of the configuration: e.g. "P.csv: data row 3"), the joint, its value and
-    the allowed range in robot file units.  Beyond the limits a path's length can overflow and its time
-    vanish (1e300 rad: "zero-length path")."""
-    c = robot.chain
-    bad = (P < c.lower[None, :] - 1e-12) | (P > c.upper[None, :] + 1e-12)
-    if not bad.any():
-        return
-    i, j = (int(x) for x in np.argwhere(bad)[0])
-    from studies.units import joint_units
-    u = joint_units(c)[j]
-    lo, hi, q = c.from_si(c.lower)[j], c.from_si(c.upper)[j], c.from_si(P[i])[j]
-    raise CliInputError(f"{where(i)}: joint {c.joint_names()[j]} = {q:.10g} {u} is outside its limits "
-                        f"[{lo:.10g}, {hi:.10g}] {u} ({robot.name})")
+    the allowed range in robot file units (:func:`studies.jointpath.outside_limits`).  Beyond the limits a path's
+    length can overflow and its time vanish (1e300 rad: "zero-length path")."""
+    from studies.jointpath import outside_limits
+    why = outside_limits(robot, P, where)
+    if why is not None:
+        raise CliInputError(why)
 
 
 def leaving_limits(robot, path, shape: str) -> list[tuple[int, str]]:

@@ -2,15 +2,12 @@
 of a joint path given as CSV."""
 from __future__ import annotations
 
-import csv
-import io
 import math
 import sys
 from pathlib import Path
 
 import numpy as np
 
-import kin
 from kin.output import write_output
 from studies.cli.common import (
     MAX_TIME_LIMIT,
@@ -31,50 +28,15 @@ from studies.cli.common import (
 from studies.cli.floor import floor_from_args, require_above_floor, sigma_floor_args
 from studies.cli.frames import frame_arg, pose_frame, pose_from_args
 from studies.cli.goal_text import goal_lines
-from studies.jointpath import path_csv_text
+from studies.jointpath import MAX_PATH_BYTES, PathFileError, path_csv_text, read_path_csv  # noqa: E402,F401  (where they live)
 from studies.jsonio import dump, finite_or_none
 from studies.taskrows import require_task_rows
 from studies.units import joint_units
-
-#: the largest joint-path file read (about a million rows of six joints)
-MAX_PATH_BYTES = 100_000_000
-
-
-class PathFileError(kin.RmtError):
-    """A joint-path CSV file is missing or invalid."""
 
 
 def write_path_csv(robot, path_si: np.ndarray, out: str | Path) -> Path:
     """A joint path as CSV (:func:`path_csv_text`), written with :func:`kin.output.write_output`."""
     return write_output(out, path_csv_text(robot, path_si))
-
-
-def read_path_csv(robot, path: str | Path) -> np.ndarray:
-    """A joint path CSV (one configuration per row, robot file units; optional header) → (M, n) SI."""
-    from kin.files import FileReadError, read_text
-    path = Path(path)
-    try:
-        text = read_text(path, "joint-path file", MAX_PATH_BYTES)
-    except FileReadError as e:
-        raise PathFileError(str(e)) from None
-    rows = []
-    for lineno, row in enumerate(csv.reader(io.StringIO(text)), 1):
-        if not row or all(not c.strip() for c in row) or row[0].lstrip().startswith("#"):
-            continue
-        try:
-            vals = [float(c) for c in row]
-        except ValueError:
-            if not rows and lineno == 1:
-                continue           # a header
-            raise PathFileError(f"{path}: line {lineno}: non-numeric value in {row!r}") from None
-        if len(vals) != robot.n:
-            raise PathFileError(f"{path}: line {lineno}: {len(vals)} values; {robot.name} has {robot.n} joints")
-        if not all(math.isfinite(v) for v in vals):
-            raise PathFileError(f"{path}: line {lineno}: NaN or infinite value")
-        rows.append(vals)
-    if not rows:
-        raise PathFileError(f"{path}: no configurations (one row of {robot.n} joint values per line)")
-    return robot.chain.to_si(np.array(rows))
 
 
 def cmd_plan(args, load_robot) -> int:

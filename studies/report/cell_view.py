@@ -217,7 +217,7 @@ def _join(parts) -> tuple[np.ndarray, np.ndarray]:
 def robot_parts(geometry, bodies, shape=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The robot's ``bodies`` as one mesh in their own frames: vertices (k, 3) each in its body's DH
     frame (m), triangles (m, 3), and each vertex's body (k,).  A body drawn by ``shape`` (a list of
-    :class:`studies.view.meshes.BodyMesh`, the real shape) has its meshes, any other its capsules."""
+    :class:`studies.shape.meshes.BodyMesh`, the real shape) has its meshes, any other its capsules."""
     have = {m.body for m in shape or ()}
     capsuled = {b for b in bodies if b not in have}
     caps = [c.body for c in geometry.capsules if c.body in capsuled]
@@ -374,9 +374,9 @@ def cell_view(world, q=None, *, path=None, meshes=None, title: str = "", closest
     colour) each; ``bounds``: the scene's box ((3, 2) world, m; default: the robot over the path and
     the markers, with a margin — obstacles reaching out of it are cut at its faces).  ``shape``: the
     robot's real shape drawn instead of its capsules — "auto" (its meshes where known,
-    :func:`studies.view.meshes.visual_meshes` decimated to :data:`SHAPE_BUDGET` triangles a file, and
+    :func:`studies.shape.meshes.visual_meshes` decimated to :data:`SHAPE_BUDGET` triangles a file, and
     the animation then at most :data:`SHAPE_FRAMES` frames), a list of
-    :class:`~studies.view.meshes.BodyMesh`, or None (capsules).
+    :class:`~studies.shape.meshes.BodyMesh`, or None (capsules).
     """
     import plotly.graph_objects as go
 
@@ -387,7 +387,7 @@ def cell_view(world, q=None, *, path=None, meshes=None, title: str = "", closest
     U = _Units(chain)
     meshes = meshes or {}
     if isinstance(shape, str):
-        from studies.view.meshes import visual_meshes
+        from studies.shape.meshes import visual_meshes
         shape = visual_meshes(chain, budget=SHAPE_BUDGET) if shape == "auto" else None
     if shape:
         frames = min(frames, SHAPE_FRAMES)

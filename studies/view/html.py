@@ -1,7 +1,7 @@
 """The scene of ``rmt view`` as one self-contained HTML file (``rmt view --html OUT.html``).
 
 The page holds plotly.js inline (no request to any network, as the reports' 3-D views), the cell's
-obstacles, the robot — its real shape where known (:func:`studies.view.meshes.visual_meshes`), else
+obstacles, the robot — its real shape where known (:func:`studies.shape.meshes.visual_meshes`), else
 its capsules — the closest approach at the start, a joint path or trajectory animated along a slider
 (:func:`studies.report.cell_view.cell_view`), reach targets as markers, and a joint slider per joint
 in the robot file's units: moving one places every body again in the page (the robot file's DH
@@ -50,7 +50,7 @@ def view_html(robot, world=None, *, q=None, path=None, times=None, cell_meshes=N
 
     from planning.collision import CollisionWorld
     from studies.report.cell_view import SHAPE_BUDGET, cell_view, robot_parts
-    from studies.view.meshes import visual_meshes
+    from studies.shape.meshes import visual_meshes
 
     chain = robot.chain
     world = world if world is not None else CollisionWorld(robot)

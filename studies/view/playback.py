@@ -8,31 +8,24 @@ length, :func:`studies.jointpath.densify`) and plays at a steady pace; a traject
 times (s) and plays in real time (its rows interpolated linearly, as a controller streams them)."""
 from __future__ import annotations
 
-import csv
-import io
-import math
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-import kin
+from studies.export.trajectory import TrajectoryFileError, read_trajectory
+from studies.jointpath import outside_limits, read_path_csv
 
-__all__ = ["Timeline", "TrajectoryFileError", "read_trajectory_csv", "path_timeline", "trajectory_timeline",
+__all__ = ["Timeline", "TrajectoryFileError", "path_timeline", "trajectory_timeline",
            "PLOT_SAMPLES", "TRACE_POINTS", "PATH_SECONDS"]
 
 #: the largest trajectory file read (as rmt check-path's joint paths)
-MAX_TRAJECTORY_BYTES = 100_000_000
 #: samples of σ_min, clearance and windows plotted under the timeline
 PLOT_SAMPLES = 400
 #: points of the swept tool trace
 TRACE_POINTS = 400
 #: an untimed path plays over this many seconds
 PATH_SECONDS = 8.0
-
-
-class TrajectoryFileError(kin.RmtError):
-    """A timed trajectory CSV is missing or invalid."""
 
 
 @dataclass(frozen=True)
@@ -84,7 +77,6 @@ class Timeline:
 
 def path_timeline(robot, path: str | Path) -> Timeline:
     """A joint path CSV (what ``rmt plan --out`` writes) as a timeline over its arc length (0 … 1)."""
-    from studies.cli.plan import read_path_csv
     P = read_path_csv(robot, path)
     if len(P) == 1:
         return Timeline(np.zeros(1), P, False, str(path))
@@ -97,57 +89,13 @@ def path_timeline(robot, path: str | Path) -> Timeline:
     return Timeline(t[keep], P[keep], False, str(path))
 
 
-def read_trajectory_csv(robot, path: str | Path) -> tuple[np.ndarray, np.ndarray]:
-    """A timed trajectory CSV (what ``rmt time --out`` writes: a header naming ``t`` and ``q1`` … ``qn``,
-    robot file units) → times (M,; s) and configurations (M, n; SI).  One line naming the file, the row
-    and the fault for a missing column, a non-numeric, NaN or infinite value, times that do not
-    increase, or fewer than two rows."""
-    from kin.files import FileReadError, read_text
-    path = Path(path)
-    try:
-        text = read_text(path, "trajectory file", MAX_TRAJECTORY_BYTES)
-    except FileReadError as e:
-        raise TrajectoryFileError(str(e)) from None
-    rows = [r for r in csv.reader(io.StringIO(text)) if r and any(c.strip() for c in r)
-            and not r[0].lstrip().startswith("#")]
-    if not rows:
-        raise TrajectoryFileError(f"{path}: empty; a trajectory has a header (t, q1 … q{robot.n}) and a row per "
-                                  f"sample (rmt time --out writes one)")
-    head = [h.strip() for h in rows[0]]
-    want = ["t"] + [f"q{j}" for j in range(1, robot.n + 1)]
-    missing = [w for w in want if w not in head]
-    nq = sum(1 for h in head if h[:1] == "q" and h[1:].isdigit())
-    if missing or nq != robot.n:
-        what = f"lacks column(s) {', '.join(missing)}" if missing else f"has {nq} joint columns (q1 … q{nq})"
-        raise TrajectoryFileError(f"{path}: header {what}; {robot.name} has {robot.n} joints: t, q1 … q{robot.n}, as "
-                                  f"rmt time --out writes")
-    cols = [head.index(w) for w in want]
-    T, Q = [], []
-    for k, row in enumerate(rows[1:], 2):
-        if len(row) != len(head):
-            raise TrajectoryFileError(f"{path}: data row {k - 1}: {len(row)} values; the header has {len(head)}")
-        try:
-            vals = [float(row[i]) for i in cols]
-        except ValueError:
-            raise TrajectoryFileError(f"{path}: data row {k - 1}: non-numeric value in {row!r}") from None
-        if not all(math.isfinite(v) for v in vals):
-            raise TrajectoryFileError(f"{path}: data row {k - 1}: NaN or infinite value")
-        if T and not vals[0] > T[-1]:
-            raise TrajectoryFileError(f"{path}: data row {k - 1}: t = {vals[0]:.10g} s does not increase (the row "
-                                      f"before has {T[-1]:.10g} s)")
-        T.append(vals[0])
-        Q.append(vals[1:])
-    if len(T) < 2:
-        raise TrajectoryFileError(f"{path}: {len(T)} data row(s); a trajectory needs at least two")
-    return np.array(T), robot.chain.to_si(np.array(Q))
-
-
 def trajectory_timeline(robot, path: str | Path) -> Timeline:
     """A timed trajectory CSV as a timeline in seconds, its joint values checked against the limits."""
-    from studies.cli.common import require_within_limits
-    t, Q = read_trajectory_csv(robot, path)
-    require_within_limits(robot, Q, lambda i: f"{path}: data row {i + 1}")
-    return Timeline(t, Q, True, str(path))
+    traj = read_trajectory(robot, path)
+    why = outside_limits(robot, traj.q, lambda i: f"{path}: data row {i + 1}")
+    if why is not None:
+        raise TrajectoryFileError(why)
+    return Timeline(traj.t, traj.q, True, str(path))
 
 
 def path_profile(model, timeline: Timeline, m: int = PLOT_SAMPLES) -> dict:

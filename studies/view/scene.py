@@ -1,5 +1,5 @@
 """What ``rmt view`` draws, as plain arrays (no viser): the robot's parts fixed in its bodies — its real
-shape where :func:`studies.view.meshes.visual_meshes` knows it, its collision capsules (the cell's tool
+shape where :func:`studies.shape.meshes.visual_meshes` knows it, its collision capsules (the cell's tool
 among them, body n + 1) — the cell's obstacles in the world, the bodies' poses at a configuration, the
 joint sliders' ranges in robot file units, and the target nearest a click ray.  :mod:`studies.view.server`
 puts them into viser."""
@@ -50,7 +50,7 @@ def capsule_parts(world) -> list[Part]:
 def mesh_parts(robot) -> tuple[list[Part], str]:
     """The robot's real shape as parts (empty when unknown) and one line saying what is drawn."""
     try:
-        from studies.view.meshes import visual_meshes
+        from studies.shape.meshes import visual_meshes
     except ImportError:                   # the module of the real shapes is optional
         return [], "robot drawn as its collision capsules (no mesh support installed)"
     import kin

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from studies.cli.common import CliInputError
+from studies.view.errors import ViewInputError
 
 __all__ = ["reach_file", "load_reach", "target_colours", "target_label", "MISSED_GREY"]
 
@@ -25,7 +25,7 @@ def reach_file(arg: str) -> Path:
     if p.is_file():
         return p
     if not p.is_dir():
-        raise CliInputError(f"--reach {arg}: no such directory (give the --out directory of rmt reach, or its "
+        raise ViewInputError(f"--reach {arg}: no such directory (give the --out directory of rmt reach, or its "
                             "reach.json)")
     if (p / "reach.json").is_file():
         return p / "reach.json"
@@ -33,9 +33,9 @@ def reach_file(arg: str) -> Path:
     if len(found) == 1:
         return found[0]
     if not found:
-        raise CliInputError(f"--reach {arg}: no reach.json in it or in a folder of it (rmt reach --out DIR writes "
+        raise ViewInputError(f"--reach {arg}: no reach.json in it or in a folder of it (rmt reach --out DIR writes "
                             "DIR/TASK/reach.json)")
-    raise CliInputError(f"--reach {arg}: {len(found)} studies in it ({', '.join(f.parent.name for f in found)}); "
+    raise ViewInputError(f"--reach {arg}: {len(found)} studies in it ({', '.join(f.parent.name for f in found)}); "
                         "give one of their folders")
 
 
@@ -49,11 +49,11 @@ def load_reach(arg: str, robot):
     try:
         study = ReachStudy.from_dict(read_json(path, "reach study", MAX_STUDY_BYTES), str(path))
     except (FileReadError, TaskError) as e:
-        raise CliInputError(f"--reach: {e}") from None
+        raise ViewInputError(f"--reach: {e}") from None
     if study.robot and study.robot != robot.name:
-        raise CliInputError(f"--reach {path}: a study of robot {study.robot!r}, not {robot.name!r}")
+        raise ViewInputError(f"--reach {path}: a study of robot {study.robot!r}, not {robot.name!r}")
     if study.q.shape != (len(study), robot.n) or not np.all(np.isfinite(study.q)):
-        raise CliInputError(f"--reach {path}: its targets' configurations are not {robot.n} finite joint values each "
+        raise ViewInputError(f"--reach {path}: its targets' configurations are not {robot.n} finite joint values each "
                             f"({robot.name})")
     return study
 

@@ -27,7 +27,7 @@ import kin
 from kin.geometry import LinkCapsule, body_frames
 from kin.robotfile import _str, body_label
 from kin.urdf import import_urdf
-from studies.view.mapping import body_map
+from studies.shape.mapping import body_map
 
 
 def fit(name: str, urdf: str, tip: str, package_dirs=None, max_capsules: int = 3,

@@ -140,7 +140,7 @@ def test_degenerate_robots_get_a_clear_error(capsys, tmp_path, a, a2, match, com
 
 
 def test_joint_path_file_size_is_bounded(capsys, tmp_path, monkeypatch):
-    import studies.cli.plan as cp
-    monkeypatch.setattr(cp, "MAX_PATH_BYTES", 20)
+    import studies.jointpath as jp
+    monkeypatch.setattr(jp, "MAX_PATH_BYTES", 20)
     (tmp_path / "p.csv").write_text(SCARA_PATH)                # 38 bytes
     refused(capsys, "check-path", "scara_rrp", tmp_path / "p.csv", match="a joint-path file may have at most 20 bytes")

@@ -49,7 +49,7 @@ def test_a_file_the_reader_refuses_is_never_kept(capsys, tmp_path, monkeypatch):
     urdf = write_urdf(tmp_path, serial(ARM), "arm")
     real = kin.robotfile.dumps_robot
     monkeypatch.setattr(kin.robotfile, "dumps_robot",
-                        lambda chain: real(chain).replace('length_unit = "m"', 'length_unit = "furlong"'))
+                        lambda chain, *a: real(chain, *a).replace('length_unit = "m"', 'length_unit = "furlong"'))
     before = files_under(tmp_path)
     code, text, err = run(capsys, "import-urdf", urdf, "--no-collision", "--out", tmp_path / "made" / "arm.toml")
     lines = err.strip().splitlines()

@@ -1,4 +1,4 @@
-"""The robot's real shape (studies.view.meshes, kin.visual, kin.urdf.visual).
+"""The robot's real shape (studies.shape.meshes, kin.visual, kin.urdf.visual).
 
 Meshes placed by the robot file's body frames (kin.geometry.body_frames) at random configurations are
 compared with the same mesh files placed by the URDF's own kinematics (yourdfpy), vertex by vertex.
@@ -15,7 +15,7 @@ from kin.errors import RobotFileError
 from kin.geometry import body_frames
 from kin.robotfile import dumps_robot, loads_robot, save_robot
 from kin.urdf import import_urdf
-from studies.view.meshes import MeshWarning, decimate, visual_meshes
+from studies.shape.meshes import MeshWarning, decimate, visual_meshes
 from tests.kin.urdf.reference import erd_urdf
 
 URDF = """<?xml version="1.0"?>

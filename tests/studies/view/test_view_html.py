@@ -47,8 +47,8 @@ def test_weld_cell_page_is_offline_and_drawn(tmp_path, report_browser):
 
 @pytest.mark.slow
 def test_panda_page_moves_the_meshes_with_a_slider(tmp_path, report_browser):
+    from studies.shape.meshes import visual_meshes
     from studies.view.html import write_view_html
-    from studies.view.meshes import visual_meshes
     robot = kin.Robot(kin.load_chain("franka_panda"))
     if visual_meshes(robot) is None:
         pytest.skip("example-robot-data is not installed: the Panda has no meshes")

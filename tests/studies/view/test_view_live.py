@@ -17,7 +17,7 @@ import kin
 from planning.collision import collision_world
 from studies.cli import main
 from studies.view.handle import solve_handle
-from studies.view.playback import TrajectoryFileError, path_timeline, read_trajectory_csv, trajectory_timeline
+from studies.view.playback import TrajectoryFileError, path_timeline, trajectory_timeline
 from studies.view.plot import window_runs
 from studies.view.readouts import LiveModel
 from studies.view.scene import body_poses, capsule_parts, nearest_to_ray, slider_spec
@@ -187,27 +187,32 @@ def test_path_timeline_and_trajectory_reader(planar, tmp_path):
     assert not tl.timed and np.allclose(tl.t, [0, 0.5, 1]) and np.allclose(tl.at(0.25), [0.5, 0.5])
     trace = tl.tool_trace(model, 50)
     assert np.allclose(trace[0], frames([0, 0.5])[3][:3, 3]) and np.allclose(trace[-1], frames([1, 1.5])[3][:3, 3])
-    (tmp_path / "t.csv").write_text("t,q1,q2,qd1,qd2\n0,0,0.5,0,0\n0.5,0.2,0.6,0,0\n2,1,1,0,0\n")
+    (tmp_path / "t.csv").write_text(H + "0,0,0.5,0,0,0,0\n0.5,0.2,0.6,0,0,0,0\n2,1,1,0,0,0,0\n")
     tt = trajectory_timeline(robot, tmp_path / "t.csv")
     assert tt.timed and tt.duration == 2 and tt.playback_speed() == 1.0
     assert np.allclose(tt.at(1.25), [0.6, 0.8])
 
 
+#: the header of a planar_2r trajectory file (what rmt time --out writes; studies.export.trajectory reads it)
+H = "t,q1,q2,qd1,qd2,qdd1,qdd2\n"
+
+
 @pytest.mark.parametrize("text, words", [
-    ("t,q1,q2\n0,0,nan\n1,0,0\n", "data row 1: NaN"),
-    ("t,q1,q2\n0,0,0\n", "1 data row(s)"),
-    ("t,q1,q2,q3\n0,0,0,0\n1,0,0,0\n", "has 3 joint columns"),    # another robot's trajectory
-    ("t,q1\n0,0\n1,0\n", "lacks column(s) q2"),
-    ("t,q1,q2\n0,0,0\n0,1,1\n", "does not increase"),
-    ("t,q1,q2\n0,0,x\n1,0,0\n", "non-numeric"),
-    ("", "empty"),
+    (H + "0,0,nan,0,0,0,0\n1,0,0,0,0,0,0\n", "line 2: column q2 is nan"),
+    (H + "0,0,0,0,0,0,0\n", "1 sample(s)"),
+    ("t,q1,q2,q3,qd1,qd2,qd3,qdd1,qdd2,qdd3\n0,0,0,0,0,0,0,0,0,0\n1,0,0,0,0,0,0,0,0,0\n",
+     "3 joint position columns"),                                   # another robot's trajectory
+    (H + "0,0,0,0,0,0,0\n0,1,1,0,0,0,0\n", "times must increase"),
+    (H + "0,0,x,0,0,0,0\n1,0,0,0,0,0,0\n", "'x' is not a number"),
+    ("", "no header row"),
+    (H + "0,0,9,0,0,0,0\n1,0,0,0,0,0,0\n", "outside its limits"),
 ])
 def test_hostile_trajectories_get_one_line(planar, tmp_path, text, words):
     robot = planar[0]
     f = tmp_path / "bad.csv"
     f.write_text(text)
     with pytest.raises(TrajectoryFileError, match=re.escape(words)):
-        read_trajectory_csv(robot, f)
+        trajectory_timeline(robot, f)
 
 
 def test_window_runs_and_the_click_ray():
@@ -245,9 +250,9 @@ def test_busy_port_bad_host_and_default_host_are_refused_or_local():
 
 
 def test_hostile_files_are_refused_before_serving(planar, tmp_path):
-    (tmp_path / "bad.csv").write_text("t,q1,q2\n0,0,nan\n1,0,0\n")
+    (tmp_path / "bad.csv").write_text(H + "0,0,nan,0,0,0,0\n1,0,0,0,0,0,0\n")
     code, err = run(["view", "planar_2r", "--trajectory", str(tmp_path / "bad.csv"), "--port", "0", "--no-browser"])
-    assert code == 2 and "NaN" in err and len(err.strip().splitlines()) == 1
+    assert code == 2 and "is nan" in err and len(err.strip().splitlines()) == 1
     code, err = run(["view", "planar_2r", "--path", str(tmp_path / "none.csv"), "--port", "0", "--no-browser"])
     assert code == 2 and "none.csv" in err
     code, err = run(["view", "planar_2r", "--reach", str(tmp_path), "--port", "0", "--no-browser"])

@@ -127,7 +127,7 @@ def test_play_advances_the_timeline_and_pause_stops_it(view):
 
 
 def test_a_real_shape_is_drawn_and_the_checkbox_shows_the_capsules():
-    from studies.view.meshes import visual_meshes
+    from studies.shape.meshes import visual_meshes
     from studies.view.server import ViewServer
     robot = kin.load_robot("franka_panda")
     meshes = visual_meshes(robot)

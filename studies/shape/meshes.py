@@ -11,7 +11,7 @@ no real shape is known (then the views draw the collision capsules).  Sources, i
 2. **A bundled arm whose maker's URDF ships with example-robot-data** (the optional extra
    ``pip install rmtkit[meshes]``): the URDF is imported (:func:`kin.urdf.chain_from_serial`), its
    bodies mapped onto the bundled arm's by constant transforms checked at random configurations
-   (:func:`studies.view.mapping.body_map`), its <visual> meshes carried over.  Only arms whose URDF
+   (:func:`studies.shape.mapping.body_map`), its <visual> meshes carried over.  Only arms whose URDF
    there has the bundled file's kinematics qualify (:data:`BUNDLED`): example-robot-data ships the
    Panda, and Universal Robots' older CB-series arms, whose lengths differ from the e-series'.
 
@@ -231,7 +231,7 @@ def _mapped_visual(chain, path: Path, base, tip) -> tuple:
 
     from kin.urdf import UrdfError, UrdfWarning, chain_from_serial, read_serial_chain
     from kin.visual import pose_placement
-    from studies.view.mapping import MappingError, body_map
+    from studies.shape.mapping import MappingError, body_map
 
     try:
         with warnings.catch_warnings():

@@ -5,7 +5,7 @@ file describing the same arm (same joints, senses up to ±1, zeros up to multipl
 others.  Body k's two frames are both fixed in link k, so X_k = F_file,k(q)⁻¹ · W · F_imported,k(q)
 is one constant transform — checked at random configurations (W turns the URDF's base link into
 the file's base frame, a multiple of 90° about z).  Used to put a URDF's meshes on a bundled arm
-(:mod:`studies.view.meshes`) and to fit the bundled arms' capsules (tests/kin/geometry/bundled_fit.py).
+(:mod:`studies.shape.meshes`) and to fit the bundled arms' capsules (tests/kin/geometry/bundled_fit.py).
 """
 from __future__ import annotations
 
