@@ -23,7 +23,8 @@ from typing import Literal, Mapping, Sequence
 import numpy as np
 
 from kin.errors import ChainError, ConfigurationError, JointLimitError, ParameterError
-from kin.transforms import make_transform, rigidity_defect, rot_x, rpy_to_matrix
+from kin.placement import IDENTITY, Placement
+from kin.transforms import make_transform, rigidity_defect, rot_x
 
 JointType = Literal["revolute", "prismatic"]
 Convention = Literal["standard", "modified"]
@@ -55,36 +56,6 @@ class Parameter:
     kind: Literal["length", "angle"] = "length"
 
 
-@dataclass(frozen=True)
-class Placement:
-    """A fixed rigid transform (base or tool).
-
-    Given either as ``xyz`` + ``rpy`` (fixed-axis roll-pitch-yaw) or as a full 4×4 ``matrix``; the
-    form is kept so that a robot file saves back the way it was written.  SI units.
-    """
-
-    xyz: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    rpy: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    matrix_: tuple[tuple[float, ...], ...] | None = None
-
-    @property
-    def matrix(self) -> np.ndarray:
-        """The 4×4 homogeneous transform (SI)."""
-        if self.matrix_ is not None:
-            return np.array(self.matrix_, dtype=float)
-        return make_transform(rpy_to_matrix(self.rpy), np.array(self.xyz, dtype=float))
-
-    @property
-    def is_identity(self) -> bool:
-        return bool(np.array_equal(self.matrix, np.eye(4)))
-
-    @classmethod
-    def from_matrix(cls, T: np.ndarray) -> "Placement":
-        T = np.asarray(T, dtype=float)
-        return cls(matrix_=tuple(tuple(float(x) for x in row) for row in T))
-
-
-IDENTITY = Placement()
 
 
 @dataclass(frozen=True)
@@ -372,7 +343,9 @@ class Chain:
                                                                     T[:3, :3] @ np.array(c.b) + T[:3, 3]))
                 c = replace(c, a=tuple(float(x) for x in a), b=tuple(float(x) for x in b))
             caps.append(c)
-        return replace(chain, geometry=replace(g, capsules=tuple(caps)))
+        hulls = tuple(replace(h, points=h.array @ transforms[h.body][:3, :3].T + transforms[h.body][:3, 3])
+                      if h.body in transforms else h for h in g.hulls)
+        return replace(chain, geometry=replace(g, capsules=tuple(caps), hulls=hulls))
 
     @staticmethod
     def _moved_inertia(joints: Sequence[Joint], transforms: Mapping[int, np.ndarray]) -> tuple[Joint, ...]:

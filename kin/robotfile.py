@@ -43,7 +43,7 @@ JOINT_FIELDS = ("type", "a", "alpha", "d", "theta", "limits", "name", "max_veloc
 INERTIAL_FIELDS = ("mass", "com", "inertia", "motor_inertia", "viscous", "coulomb")
 PLACEMENT_FIELDS = ("xyz", "rpy", "matrix")
 PARAMETER_FIELDS = ("value", "bounds")
-GEOMETRY_FIELDS = ("source", "radius", "allow", "over_estimate", "capsule", "sphere", "box", "cylinder")
+GEOMETRY_FIELDS = ("source", "radius", "allow", "over_estimate", "capsule", "sphere", "box", "cylinder", "hull")
 #: the fields of each shape table, required ones first (``rpy`` and ``name`` are optional)
 SHAPE_FIELDS = {"capsule": ("body", "a", "b", "radius", "name"),
                 "sphere": ("body", "center", "radius", "name"),
@@ -286,7 +286,8 @@ def loads_robot(text: str, path: str | None = None) -> Chain:
         chain = replace(chain, states=read_states(r, doc["states"], chain))
     if "visual" in doc:
         from kin.visual import read_visual
-        meshes, vsource = read_visual(r, doc["visual"], chain, ls, as_, path)
+        meshes, vsource = read_visual(r, doc["visual"], lambda v, f: _body(r, v, f, chain),
+                                      lambda t, f: _placement(r, t, f, ls, as_), path)
         chain = replace(chain, visual=meshes, visual_source=vsource)
     return chain
 
@@ -410,6 +411,9 @@ def _geometry(r: _Reader, raw: Any, chain: Chain, ls: float, as_: float):
         if b0 == b1:
             raise r.fail(fld, f"names body {b0} twice; a pair is two bodies")
         allowed.add((min(b0, b1), max(b0, b1)))
+    if "hull" in raw and not shapes:
+        raise r.fail("geometry.hull", "needs the body's capsules listed too ([[geometry.capsule]] or other shapes): "
+                     "the robot is taken to lie inside both")
     if not shapes:
         if "over_estimate" in raw:
             raise r.fail("geometry.over_estimate", "applies to listed shapes; without shapes the default "
@@ -459,7 +463,11 @@ def _geometry(r: _Reader, raw: Any, chain: Chain, ls: float, as_: float):
                                        _size(sr, t["length"], f"{fld}.length", ls), pose)
             over = max(over, enc.over_estimate)
             caps += [LinkCapsule(body, c.a, c.b, c.radius, label) for c in enc.capsules]
-    return RobotGeometry(tuple(caps), frozenset(allowed), source or "robot file", None, over)
+    hulls = ()
+    if "hull" in raw:
+        from kin.geometry.hull_table import read_hulls
+        hulls = tuple(read_hulls(raw["hull"], r.fail, lambda v, f: _body(r, v, f, chain), r.string, ls))
+    return RobotGeometry(tuple(caps), frozenset(allowed), source or "robot file", None, over, hulls)
 
 
 def _placement(r: _Reader, raw: Any, fld: str, ls: float, as_: float) -> Placement:
@@ -593,7 +601,7 @@ def dumps_robot(chain: Chain, directory: str | Path | None = None) -> str:
         out += _geometry_lines(chain, ls)
     if chain.visual:
         from kin.visual import visual_lines
-        out += visual_lines(chain, _fmt, _vec, directory)
+        out += visual_lines(chain, _vec, _str, lambda b: body_label(chain, b), ls, as_, directory)
     return "\n".join(out) + "\n"
 
 
@@ -628,6 +636,9 @@ def _geometry_lines(chain: Chain, ls: float) -> list[str]:
                 f"b = {_vec(c.b, ls)}", f"radius = {_fmt(_to_file(c.radius, ls))}"]
         if c.name:
             out.append(f"name = {_str(c.name)}")
+    if g.hulls:
+        from kin.geometry.hull_table import hull_lines
+        out += hull_lines(g.hulls, lambda b: body_label(chain, b), _vec, lambda x: _fmt(float(x)), _str, ls)
     return out
 
 

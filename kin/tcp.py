@@ -61,11 +61,13 @@ def with_tcp(robot, T):
     tool_body = chain.n + 1
     new = replace(chain, tool=Placement.from_matrix(chain.tool.matrix @ T))
     g = chain.geometry
-    if g is not None and any(c.body == tool_body for c in g.capsules):
+    if g is not None and (any(c.body == tool_body for c in g.capsules) or any(h.body == tool_body for h in g.hulls)):
         def moved(p):
             return tuple(float(x) for x in (inv @ [*p, 1.0])[:3])
         caps = tuple(replace(c, a=moved(c.a), b=moved(c.b)) if c.body == tool_body else c for c in g.capsules)
-        new = replace(new, geometry=replace(g, capsules=caps))
+        hulls = tuple(replace(h, points=h.array @ inv[:3, :3].T + inv[:3, 3]) if h.body == tool_body else h
+                      for h in g.hulls)
+        new = replace(new, geometry=replace(g, capsules=caps, hulls=hulls))
     if chain.payload is not None:
         new = replace(new, payload=chain.payload.transformed(inv))
     out = Robot(new, backend=robot.backend_request)

@@ -1,70 +1,110 @@
-"""Certified distances between convex solids given by their support points (GJK).
+"""Certified distances between convex solids given by points (GJK).
 
-A solid here is the convex hull of finitely many points dilated by a radius — a convex polytope (a
-link's hull, a box by its 8 corners), a capsule (the two ends of its segment, radius r), a sphere (one
-point, radius r) — or a cylinder (its support function in closed form).  :func:`convex_distance`
-runs Gilbert–Johnson–Keerthi's algorithm on the Minkowski difference A − B to find its point v
-nearest the origin, and returns a *lower bound* of the distance, certified whatever the accuracy of
-that search: for any unit vector u, every a ∈ A and b ∈ B satisfy u·(a − b) ≥ min_A u·x − max_B u·x,
-so that support gap along u = v/|v| (computed exactly from the two support points) bounds the distance
-from below.  GJK makes it tight: at its optimum the gap equals the distance.  Overlapping solids give
-a value ≤ 0 — minus the radii — that is not a depth: penetration is not measured, only "not clear".
+A solid here is the convex hull of finitely many points (in its own frame, placed by a 4×4 transform)
+dilated by a radius — a convex polytope (a link's hull, a box by its 8 corners), a capsule (the two
+ends of its segment, radius r), a sphere (one point, radius r); a cylinder is taken as the prism of
+:data:`CYLINDER_SIDES` sides around it (which holds it: its distances are never larger).
+:func:`convex_distance` runs Gilbert–Johnson–Keerthi's algorithm on the Minkowski difference A − B to
+find its point v nearest the origin, and returns a *lower bound* of the distance, certified whatever
+the accuracy of that search: for any unit vector u, every a ∈ A and b ∈ B satisfy
+u·(a − b) ≥ min_A u·x − max_B u·x, so that support gap along u = v/|v| (computed exactly from the two
+support points) bounds the distance from below.  GJK makes it tight: at its optimum the gap equals the
+distance.  Overlapping solids give a value ≤ 0 — minus the radii — that is not a depth: penetration
+is not measured, only "not clear".
 
-The search is plain numpy over at most four simplex points (every face of the simplex tried for the
-point nearest the origin: at most 15 small least-squares systems), meant for the few pairs that a
-cheaper, coarser check could not clear (:mod:`planning.collision` uses it for a body's hull where its
-capsules come too close).
+The search runs in C (``convex.c``, built on first use like the clearance kernel; about a microsecond
+a pair), else in numpy (the same algorithm: every face of the simplex tried for the point nearest
+the origin).  It is meant for the few pairs that a cheaper, coarser check could not clear
+(:mod:`kin.geometry.hulls`: a body's hull where its capsules come too close).
 """
 from __future__ import annotations
 
+import ctypes
 import itertools
 import math
+import threading
+from pathlib import Path
 
 import numpy as np
 
-__all__ = ["Solid", "points_solid", "box_solid", "cylinder_solid", "convex_distance"]
+__all__ = ["Solid", "points_solid", "box_solid", "cylinder_solid", "convex_distance", "CYLINDER_SIDES"]
 
 #: relative gap at which GJK stops (the bound is certified whatever it is; this only sets tightness)
 REL_TOL = 1e-9
 ABS_TOL = 1e-12
 MAX_ITER = 64
+#: a cylinder is taken as the prism of this many sides around it (its distances then at most
+#: radius·(1/cos(π/sides) − 1) smaller: 0.5 % of the radius)
+CYLINDER_SIDES = 32
+SOURCE = Path(__file__).resolve().with_name("convex.c")
+_lock = threading.Lock()
+_loaded: dict = {}
 
 
 class Solid:
-    """A convex solid: ``support(u)`` is a point of it farthest along unit ``u``, before the dilation by
-    ``radius`` (m)."""
+    """A convex solid: the hull of ``points`` (k, 3, its own frame) placed by ``pose`` (4×4; None:
+    identity), dilated by ``radius`` (m)."""
 
-    def __init__(self, support, radius: float = 0.0):
-        self.support = support
+    __slots__ = ("points", "pose", "radius")
+
+    def __init__(self, points, pose=None, radius: float = 0.0):
+        P = np.ascontiguousarray(points, dtype=float).reshape(-1, 3)
+        if not len(P):
+            raise ValueError("a convex solid needs at least one point")
+        self.points = P
+        self.pose = None if pose is None else np.ascontiguousarray(pose, dtype=float).reshape(4, 4)
         self.radius = float(radius)
 
+    def support(self, u: np.ndarray) -> np.ndarray:
+        """A point of the (undilated) solid farthest along ``u``."""
+        if self.pose is None:
+            return self.points[int(np.argmax(self.points @ u))]
+        R, t = self.pose[:3, :3], self.pose[:3, 3]
+        return R @ self.points[int(np.argmax(self.points @ (R.T @ u)))] + t
 
-def points_solid(P, radius: float = 0.0) -> Solid:
-    """The hull of points ``P`` (k, 3), dilated by ``radius``."""
-    P = np.asarray(P, dtype=float).reshape(-1, 3)
-    if not len(P):
-        raise ValueError("a convex solid needs at least one point")
-    return Solid(lambda u: P[int(np.argmax(P @ u))], radius)
+
+def points_solid(P, radius: float = 0.0, pose=None) -> Solid:
+    """The hull of points ``P`` (k, 3), dilated by ``radius``, placed by ``pose``."""
+    return Solid(P, pose, radius)
+
+
+_CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
 
 
 def box_solid(half, pose) -> Solid:
     """A box of half sizes ``half`` (3,) at ``pose`` (4×4)."""
-    h = np.asarray(half, dtype=float)
-    R, t = np.asarray(pose, dtype=float)[:3, :3], np.asarray(pose, dtype=float)[:3, 3]
-    return Solid(lambda u: t + R @ (np.where(R.T @ u >= 0, h, -h)))
+    return Solid(_CORNERS * np.asarray(half, dtype=float), pose)
 
 
 def cylinder_solid(radius: float, half_length: float, pose) -> Solid:
-    """A solid cylinder (axis the pose's z, centred at its origin)."""
-    R, t = np.asarray(pose, dtype=float)[:3, :3], np.asarray(pose, dtype=float)[:3, 3]
+    """A solid cylinder (axis the pose's z, centred at its origin) — as the prism of
+    :data:`CYLINDER_SIDES` sides that holds it."""
+    a = 2 * math.pi * np.arange(CYLINDER_SIDES) / CYLINDER_SIDES
+    R = radius / math.cos(math.pi / CYLINDER_SIDES)
+    ring = np.c_[R * np.cos(a), R * np.sin(a)]
+    P = np.vstack([np.c_[ring, np.full(len(a), -half_length)], np.c_[ring, np.full(len(a), half_length)]])
+    return Solid(P, pose)
 
-    def support(u):
-        w = R.T @ u
-        rad = math.hypot(w[0], w[1])
-        x = np.array([radius * w[0] / rad, radius * w[1] / rad, 0.0]) if rad > 1e-15 else np.zeros(3)
-        x[2] = half_length if w[2] >= 0 else -half_length
-        return t + R @ x
-    return Solid(support)
+
+def _library():
+    """The C search (None: no compiler, or it failed — numpy then)."""
+    from kin.native import build, find_compiler
+    compiler = find_compiler()
+    with _lock:
+        if compiler in _loaded:
+            return _loaded[compiler]
+        fn = None
+        if compiler is not None:
+            try:
+                lib = build("geometry_convex", SOURCE, compiler=compiler, what="the convex distance kernel")
+                fn = ctypes.PyDLL(str(lib.path)).rmt_convex_distance
+                p, ll, dbl = ctypes.c_void_p, ctypes.c_long, ctypes.c_double
+                fn.argtypes = [p, ll, p, dbl, p, ll, p, dbl]
+                fn.restype = dbl
+            except Exception:           # noqa: BLE001 — any failure to build or load: numpy
+                fn = None
+        _loaded[compiler] = fn
+        return fn
 
 
 def _nearest_on_simplex(W: list[np.ndarray]) -> tuple[np.ndarray, list[np.ndarray]]:
@@ -100,6 +140,15 @@ def _nearest_on_simplex(W: list[np.ndarray]) -> tuple[np.ndarray, list[np.ndarra
 def convex_distance(A: Solid, B: Solid) -> float:
     """A certified lower bound of the distance between solids ``A`` and ``B`` (m; ≤ 0 when they may
     touch), tight to about :data:`REL_TOL` of it where they are apart."""
+    fn = _library()
+    if fn is not None:
+        return fn(A.points.ctypes.data, len(A.points), None if A.pose is None else A.pose.ctypes.data, A.radius,
+                  B.points.ctypes.data, len(B.points), None if B.pose is None else B.pose.ctypes.data, B.radius)
+    return convex_distance_numpy(A, B)
+
+
+def convex_distance_numpy(A: Solid, B: Solid) -> float:
+    """:func:`convex_distance` in numpy (what runs without a C compiler)."""
     def sup(u):                         # support of A − B along u
         return A.support(u) - B.support(-u)
 
@@ -115,7 +164,7 @@ def convex_distance(A: Solid, B: Solid) -> float:
         lower = max(lower, float(u @ w))         # the support gap along u: certified
         if nv - u @ w <= REL_TOL * nv + ABS_TOL:
             break
-        if any(np.allclose(w, x, rtol=0, atol=1e-15) for x in W):
+        if any(np.array_equal(w, x) for x in W):
             break
         W.append(w)
         v, W = _nearest_on_simplex(W)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from kin.geometry.shapes import LinkCapsule
+from kin.geometry.shapes import LinkCapsule, LinkHull
 
 __all__ = ["RobotGeometry", "body_names"]
 
@@ -33,7 +33,10 @@ class RobotGeometry:
     ``source``: where the capsules come from (``"default"``, ``"robot file"``, ``"urdf"``, …);
     ``radius``: the stated radius of a default geometry (m), else None;
     ``over_estimate``: the largest distance (m) by which a capsule stands out of the geometry it
-    encloses (a URDF mesh or box), 0 when the capsules are the geometry.
+    encloses (a URDF mesh or box), 0 when the capsules are the geometry;
+    ``hulls``: convex hulls that hold a body's real shape as well (:class:`LinkHull`, e.g. of its
+    maker's collision mesh) — where a body's capsules come too close, the clearance is the larger of
+    the capsules' and the hulls' (:mod:`kin.geometry.hulls`): the robot lies inside both.
     """
 
     capsules: tuple[LinkCapsule, ...]
@@ -41,9 +44,11 @@ class RobotGeometry:
     source: str = "default"
     radius: float | None = None
     over_estimate: float = 0.0
+    hulls: tuple[LinkHull, ...] = ()
 
     def __post_init__(self):
         object.__setattr__(self, "capsules", tuple(self.capsules))
+        object.__setattr__(self, "hulls", tuple(self.hulls))
         object.__setattr__(self, "allowed", frozenset((min(i, j), max(i, j)) for i, j in self.allowed))
 
     def bodies(self) -> list[int]:
@@ -61,4 +66,4 @@ class RobotGeometry:
     def with_allowed(self, pairs) -> "RobotGeometry":
         """A copy with more allowed pairs."""
         return RobotGeometry(self.capsules, self.allowed | frozenset(pairs), self.source, self.radius,
-                             self.over_estimate)
+                             self.over_estimate, self.hulls)

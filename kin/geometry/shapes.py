@@ -21,7 +21,7 @@ import numpy as np
 
 from kin.errors import GeometryError
 
-__all__ = ["SHAPE_KINDS", "LinkCapsule", "Shape", "Obstacle"]
+__all__ = ["SHAPE_KINDS", "LinkCapsule", "LinkHull", "Shape", "Obstacle"]
 
 #: obstacle primitive kinds and the meaning of their ``size``
 SHAPE_KINDS = {
@@ -65,6 +65,38 @@ class LinkCapsule:
     def reach(self) -> float:
         """The largest distance of a segment point from the body frame's origin (m)."""
         return max(math.hypot(*self.a), math.hypot(*self.b))
+
+
+@dataclass(frozen=True)
+class LinkHull:
+    """The convex hull of ``points`` (k, 3; m, in body ``body``'s frame) dilated by ``radius`` (m, ≥ 0:
+    e.g. what rounding the points to a file's digits may have cut off) — a solid that holds the body's
+    real shape.  ``name`` says where it comes from (a mesh's name) for messages; ``array`` is the points
+    as a read-only (k, 3) array."""
+
+    body: int
+    points: tuple[tuple[float, float, float], ...]
+    radius: float = 0.0
+    name: str = ""
+    array: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        P = np.array(self.points, dtype=float)
+        if P.ndim != 2 or P.shape[1] != 3 or not len(P):
+            raise ValueError(f"hull points have shape {P.shape}; expected (k, 3) with k ≥ 1")
+        if not np.isfinite(P).all():
+            raise ValueError("hull points must be finite")
+        if not (math.isfinite(self.radius) and self.radius >= 0):
+            raise ValueError(f"hull radius {self.radius!r} must be a finite number ≥ 0")
+        P.setflags(write=False)
+        object.__setattr__(self, "points", tuple(tuple(float(x) for x in p) for p in P))
+        object.__setattr__(self, "array", P)
+        object.__setattr__(self, "radius", float(self.radius))
+
+    @property
+    def reach(self) -> float:
+        """The largest distance of a point of the hull from the body frame's origin (m)."""
+        return float(np.sqrt((self.array ** 2).sum(axis=1)).max()) + self.radius
 
 
 @dataclass(frozen=True)

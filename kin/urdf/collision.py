@@ -47,6 +47,10 @@ MAX_ELEMENTS = 1000
 CAPSULE_TOL = 1e-9       # relative: a cylinder's end and a sphere's centre this close are one point
 
 
+#: hull points are written to 1 µm: the radius grows by the most that moves a point
+HULL_ROUNDING = math.sqrt(3) / 2 * 1e-6
+
+
 def resolve_mesh(filename: str, urdf_path: str, package_dirs=None, where: str | None = None) -> Path:
     """The file a <mesh filename="…"> names (see the module docstring); UrdfError (naming ``where``,
     the element) when it is not a readable file."""
@@ -161,12 +165,15 @@ def _capsules_of_pairs(elements, urdf_path: str):
 
 
 def collision_geometry(sc, frames: list[np.ndarray], max_capsules: int = 3, package_dirs=None,
-                       search: str = "fast", progress=None):
+                       search: str = "fast", progress=None, hulls: float | None = None):
     """The :class:`~kin.geometry.RobotGeometry` of the <collision> elements of the chain's links;
     ``frames``: the poses at q = 0 (base-link frame) of bodies 0 … n + 1 (DH frames 0 … n, then the
     tip).  None when the chain's links have no collision elements.  ``search``: how meshes are cut
-    (:mod:`kin.geometry.meshfit`); ``progress(stage, done, total)`` is called as meshes are fitted."""
-    from kin.geometry import LinkCapsule, RobotGeometry
+    (:mod:`kin.geometry.meshfit`); ``progress(stage, done, total)`` is called as meshes are fitted.
+    ``hulls`` (m): besides the capsules, every element as a hull (:class:`kin.geometry.LinkHull`) — a
+    mesh's convex hull thinned to within ``hulls`` (:func:`kin.geometry.hull_fit.thin_hull`), a box,
+    cylinder, sphere or capsule as its capsules — points to 1 µm, the radius covering both."""
+    from kin.geometry import LinkCapsule, LinkHull, RobotGeometry
     from kin.geometry.enclose import enclose_box, enclose_cylinder
 
     path = sc.path
@@ -236,10 +243,23 @@ def collision_geometry(sc, frames: list[np.ndarray], max_capsules: int = 3, pack
         over = max(over, f.over_estimate(floor))
         if progress is not None:
             progress("stating the over-estimate", i + 1, len(fits))
-    caps = []
+    caps, hull_list = [], []
+    thin = {}
+    if hulls is not None:
+        from kin.geometry.hull_fit import thin_hull
+        for i, (key, f) in enumerate(fits.items()):
+            thin[key] = thin_hull(f.tris.reshape(-1, 3), hulls)
+            if progress is not None:
+                progress("thinning the meshes' hulls", i + 1, len(fits))
     for lk, key, pose, shapes in parts:
         if key is not None:
             shapes = tuple((m.a, m.b, m.radius) for m in (c.moved(pose) for c in fits[key].capsules))
+            if hulls is not None:
+                P, r = thin[key]
+                hull_list.append(LinkHull(lk.body, np.round(P @ pose[:3, :3].T + pose[:3, 3], 6),
+                                          r + HULL_ROUNDING, lk.name))
+        elif hulls is not None:
+            hull_list += [LinkHull(lk.body, np.array([a, b]), float(r), lk.name) for a, b, r in shapes]
         for a, b, r in shapes:
             caps.append(LinkCapsule(lk.body, _snap(a), _snap(b), float(r), lk.name))
     for c in caps:
@@ -257,7 +277,9 @@ def collision_geometry(sc, frames: list[np.ndarray], max_capsules: int = 3, pack
         source += "; the tool carries joints off the chain held at " + sc.held_text
     if sc.loose_links:
         source += f"; left out, moved by joints off the chain: {', '.join(sc.loose_links)}"
-    return RobotGeometry(tuple(caps), frozenset(), source, None, over)
+    if hull_list:
+        source += f"; hulls of every element (meshes' thinned to within {hulls * 1000:g} mm)"
+    return RobotGeometry(tuple(caps), frozenset(), source, None, over, tuple(hull_list))
 
 
 def _fit_meshes(meshes: dict, path: str, max_capsules: int, search: str, progress) -> dict:

@@ -129,7 +129,7 @@ def dh_frames(points: np.ndarray, dirs: np.ndarray, tip: np.ndarray) -> list[np.
 
 def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str | None = None,
                       collision: bool = True, max_capsules: int = 3, package_dirs=None, search: str = "fast",
-                      progress=None, srdf=None, visual: bool = True) -> Chain:
+                      progress=None, srdf=None, visual: bool = True, hulls: float | None = None) -> Chain:
     """The rmtkit chain (SI; lengths in m, angles in rad) of a URDF serial chain, same FK.
 
     ``convention`` is "standard" or "modified"; ``name`` defaults to the URDF robot's name made
@@ -140,7 +140,8 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
     links' <inertial> elements become the bodies' inertial models (:mod:`kin.urdf.inertial`).  Every
     number is one a robot file holds (:mod:`kin.urdf.writable`).  ``srdf``: a MoveIt SRDF whose disabled
     collision pairs leave body pairs unchecked (:mod:`kin.urdf.srdf`).  With ``visual`` the links'
-    <visual> meshes are kept for viewers (:mod:`kin.urdf.visual`, the chain's ``visual``).
+    <visual> meshes are kept for viewers (:mod:`kin.urdf.visual`, the chain's ``visual``).  ``hulls``
+    (m): the collision elements as hulls too, meshes' thinned to within it (``[[geometry.hull]]``).
     """
     if convention not in ("standard", "modified"):
         raise UrdfError(f"convention {convention!r} unknown; allowed: standard, modified", sc.path)
@@ -166,7 +167,7 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
     geometry = None
     if collision:
         from kin.urdf.collision import collision_geometry
-        geometry = collision_geometry(sc, [*frames, tip], max_capsules, package_dirs, search, progress)
+        geometry = collision_geometry(sc, [*frames, tip], max_capsules, package_dirs, search, progress, hulls)
     notes = [f"converted from the URDF file {sc.path.rsplit('/', 1)[-1]} (chain {sc.base} -> {sc.tip}) "
              "by rmt import-urdf"]
     if sc.tip_note:
@@ -225,7 +226,7 @@ def _placement(T: np.ndarray) -> Placement:
 
 def import_urdf(path: str, base: str | None = None, tip: str | None = None, convention: str = "standard",
                 name: str | None = None, collision: bool = True, max_capsules: int = 3,
-                package_dirs=None, search: str = "fast", progress=None, srdf=None) -> Chain:
+                package_dirs=None, search: str = "fast", progress=None, srdf=None, hulls: float | None = None) -> Chain:
     """Read a URDF file and convert the chain ``base`` → ``tip`` to an rmtkit :class:`~kin.Chain`.
 
     Defaults: base = the root link, tip = the only leaf link, or the link every leaf hangs from
@@ -237,7 +238,8 @@ def import_urdf(path: str, base: str | None = None, tip: str | None = None, conv
     ``collision=False`` skips them (and their mesh files).  ``progress(stage, done, total)`` is
     called as meshes are enclosed.  Placeholder inertials are left out with a
     :class:`~kin.urdf.errors.UrdfWarning`.  ``srdf``: a MoveIt SRDF whose ``<disable_collisions>`` pairs
-    leave the body pairs all of whose link pairs they name unchecked (:mod:`kin.urdf.srdf`).
+    leave the body pairs all of whose link pairs they name unchecked (:mod:`kin.urdf.srdf`).  ``hulls`` (m):
+    the collision elements as hulls too, meshes' thinned to within it (:mod:`kin.geometry.hulls`).
     """
     return chain_from_serial(read_serial_chain(path, base, tip), convention, name, collision, max_capsules,
-                             package_dirs, search, progress, srdf)
+                             package_dirs, search, progress, srdf, hulls=hulls)

@@ -267,7 +267,7 @@ class Cell:
             tool = tuple(replace(c, a=at(c.a), b=at(c.b)) for c in tool)
         source = geometry.source + (" + cell tool" if tool else "")
         geom = RobotGeometry(tuple(geometry.capsules) + tool, geometry.allowed | frozenset(pairs), source,
-                             geometry.radius, geometry.over_estimate)
+                             geometry.radius, geometry.over_estimate, geometry.hulls)
         obstacles = tuple(replace(ob, ignore=frozenset(ignore[ob.name])) for ob in self.obstacles)
         return ResolvedCell(self, chain, geom, obstacles, self.base, tuple(geom.checked_pairs(n)))
 

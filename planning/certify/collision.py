@@ -92,23 +92,30 @@ def _motion(world, dq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def certify_collision(world, path, max_depth: int = MAX_DEPTH, max_evals: int = MAX_EVALS,
-                      stop_at_first: bool = False, explain: bool = True, bound: bool = True) -> CollisionProof:
+                      stop_at_first: bool = False, explain: bool = True, bound: bool = True,
+                      native: bool = True) -> CollisionProof:
     """Prove every segment of ``path`` (M, n), SI, clear of ``world`` (a
     :class:`planning.collision.CollisionWorld`) — or find the first colliding state.
 
     ``stop_at_first``: return as soon as any violation or unproven piece is known (what a motion
     validator needs: a yes or no); ``explain=False`` (with it) leaves the violation unnamed and unmeasured;
     ``bound=False``: with the native checker, do not measure the proven lower bound (``bound`` is then
-    NaN; the verdict is the same).
+    NaN; the verdict is the same); ``native=False``: the halving proof in Python (which sees the
+    world's hulls, :class:`kin.geometry.hulls.HullRefiner`), not the native checker.  With hulls, a
+    segment the native checker (capsules only) cannot prove clear is proven again so.
     """
     P = np.atleast_2d(np.asarray(path, dtype=float))
     if P.size == 0:
         return CollisionProof(True, None)
-    native = _native(world, P, stop_at_first, explain, bound)
-    if native is not None:
-        return native
+    hulls = getattr(world, "refiner", None) is not None
+    if native:
+        proof = _native(world, P, stop_at_first, explain, bound)
+        if proof is not None and not (hulls and not proof.proven):
+            return proof
+        if proof is not None and hulls:
+            return _hull_retry(world, P, proof, max_depth, max_evals, stop_at_first, explain, bound)
     m = world.margin
-    if stop_at_first and len(P) == 2:
+    if stop_at_first and len(P) == 2 and not hulls:
         fast = _motion_in_c(world, P, max_depth, max_evals, explain)
         if fast is not None:
             return fast
@@ -180,6 +187,24 @@ def certify_collision(world, path, max_depth: int = MAX_DEPTH, max_evals: int = 
             before = (seg < fs) | ((seg == fs) & (t0 < ft))
             seg, t0, t1, o0, o1, s0, s1 = (x[before] for x in (seg, t0, t1, o0, o1, s0, s1))
     return _result(world, P, hits, sorted(unproven), bound, min_s, min_i, evals)
+
+
+def _hull_retry(world, P, proof: CollisionProof, max_depth, max_evals, stop_at_first, explain, bound) -> CollisionProof:
+    """The native proof failed on a world with hulls: every segment it did not prove (from the first
+    failing one on) proven again in Python, where the hulls count."""
+    first = min([*proof.unproven, *([proof.violation.segment] if proof.violation is not None else [])])
+    again = certify_collision(world, P[first:], max_depth, max_evals, stop_at_first, explain, bound, native=False)
+    if first == 0:
+        return again
+    head = certify_collision(world, P[:first + 1], max_depth, max_evals, stop_at_first, explain, bound)
+    v = again.violation
+    if v is not None:
+        v = Collision(v.segment + first, v.t, v.q, v.body, v.other, v.clearance, v.text, v.deepest)
+    unproven = sorted(set(head.unproven) | {k + first for k in again.unproven})
+    return CollisionProof(head.proven and again.proven, v, unproven,
+                          min(head.bound, again.bound), min(head.min_sampled, again.min_sampled),
+                          head.min_index if head.min_sampled <= again.min_sampled else again.min_index + first,
+                          head.evaluations + again.evaluations)
 
 
 def _native(world, P: np.ndarray, stop_at_first: bool, explain: bool, bound: bool) -> CollisionProof | None:

@@ -68,23 +68,31 @@ class ClearanceTally:
         if not len(Q):
             return clearance
         rows = np.arange(len(Q)) if rows is None else np.asarray(rows)
+        w = self.world
+        # with hulls the distances are the world's refined ones (the capsules' where nothing comes close);
+        # the other body or obstacle and the witness points are the capsules' nearest pair of that row
+        refined = w.per_body(Q) if getattr(w, "refiner", None) is not None else None
         for kind, model in zip(("obstacle", "self"), self._models):
             if model is None:
                 continue
             ct = model.nearest(Q)
-            clearance = np.minimum(clearance, ct.clearance)
-            have = np.asarray(ct.body) >= 0
+            body = np.asarray(ct.body)
+            values = np.asarray(ct.clearance, dtype=float)
+            if refined is not None:
+                R = refined[0] if kind == "obstacle" else refined[1]
+                values, body = R.min(axis=1), np.where(R.min(axis=1) < w.cap, R.argmin(axis=1), -1)
+            clearance = np.minimum(clearance, values)
+            have = body >= 0
             if not have.any():
                 continue
-            d = np.where(have, ct.clearance, math.inf)
+            d = np.where(have, values, math.inf)
             k = int(np.argmin(d))
             best = self.obstacle if kind == "obstacle" else self.self_pair
             if best is not None and d[k] >= best.distance:
                 continue
-            w = self.world
             other = int(ct.other[k])
             name = w.obstacles[other].name if other >= 0 else w.body_names[-1 - other]
-            found = Nearest(kind, float(d[k]), w.body_names[int(ct.body[k])], name, int(rows[k]),
+            found = Nearest(kind, float(d[k]), w.body_names[int(body[k])], name, int(rows[k]),
                             (tuple(float(v) for v in ct.point_robot[k]), tuple(float(v) for v in ct.point_other[k])))
             if kind == "obstacle":
                 self.obstacle = found

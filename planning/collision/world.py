@@ -5,6 +5,13 @@ obstacles and allowed pairs, and where the cell puts the robot, into one compile
 :class:`kin.geometry.ClearanceModel`; and it holds the motion bound of the proofs
 (:func:`kin.geometry.reach_radii`, :mod:`planning.certify.collision`).  ``margin`` is the clearance
 a state needs to count as clear (m, ≥ 0): 0 means "not touching".
+
+When the robot's geometry has convex hulls besides its capsules (``[[geometry.hull]]``, e.g. of its
+maker's collision meshes), every clearance at most ``margin`` + :data:`kin.geometry.hulls.BAND` is
+raised to the hulls' where larger (:class:`kin.geometry.hulls.HullRefiner`): a state or motion the
+capsules alone would refuse can then be proven clear of the hulls.  The native motion checker knows
+capsules only: what it cannot prove clear is proven again in Python with the hulls
+(:mod:`planning.ompl.validity`, :func:`planning.certify.collision.certify_collision`).
 """
 from __future__ import annotations
 
@@ -15,6 +22,7 @@ import numpy as np
 
 from kin.geometry import ClearanceModel, RobotGeometry, body_names, reach_radii
 from kin.geometry.adjacency import always_touching_pairs
+from kin.geometry.hulls import HullRefiner
 from kin.validation import is_real
 from planning.errors import PlanningError
 
@@ -65,6 +73,9 @@ class CollisionWorld:
             rows = slice(i, min(j, n))
             self.pair_radii[p, rows] = self.radii[rows, j]
             self.pair_bodies[p, [i, j]] = True
+        #: the hulls' refinement of the capsules' clearances (None: the geometry has no hulls)
+        self.refiner = HullRefiner(self.chain, self.geometry, self.obstacles, self.base, self.pairs) \
+            if self.geometry.hulls else None
 
     def __repr__(self) -> str:
         return (f"CollisionWorld({self.chain.name!r}, {len(self.obstacles)} obstacles, "
@@ -75,18 +86,28 @@ class CollisionWorld:
         do not depend on where the robot stands).  Reach and placement studies move one world around."""
         self.model.move_base(base)
         self.base = self.model.base
+        if self.refiner is not None:
+            self.refiner.base = self.base
         self.__dict__.pop("_motion_checkers", None)      # native checkers read the old placement
         self.__dict__.pop("_split", None)
 
     # ---- evaluation ---------------------------------------------------------------------------
     def clearance(self, Q):
         """Signed clearance (m) of configurations (N, n) → (N,), or of one (n,) → float."""
-        return self.model.clearance(Q)
+        if self.refiner is None:
+            return self.model.clearance(Q)
+        Q = np.asarray(Q, dtype=float)
+        obs, slf = self.per_body(Q)
+        out = np.minimum(obs.min(axis=1), slf.min(axis=1))
+        return float(out[0]) if Q.ndim == 1 else out
 
     def per_body(self, Q) -> tuple[np.ndarray, np.ndarray]:
         """Per body (N, B): clearance against obstacles and against the other bodies."""
         Q = np.atleast_2d(np.asarray(Q, dtype=float))
-        return self.model.per_body(Q)
+        obs, slf = self.model.per_body(Q)
+        if self.refiner is not None:
+            obs, slf = self.refiner.refine(Q, obs, slf, self.margin, self.cap)
+        return obs, slf
 
     def nearest(self, Q):
         """The closest pair per configuration (:class:`kin.geometry.Contact` of arrays)."""
@@ -106,7 +127,9 @@ class CollisionWorld:
 
     def state_clear(self, q) -> bool:
         """Whether one configuration (a sequence of n floats) is clear by more than the margin."""
-        return self.model.clear_one(q) > self.margin
+        if self.model.clear_one(q) > self.margin:
+            return True
+        return self.refiner is not None and self.clearance(np.asarray(q, dtype=float)) > self.margin
 
     # ---- words --------------------------------------------------------------------------------
     def other_name(self, other: int) -> str:

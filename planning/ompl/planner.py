@@ -404,7 +404,7 @@ def _solve(robot, cls, checker: JointSpaceChecker, start_q, goal_q, time_limit, 
     quiet_rng_seed(seed)
     space, si = joint_space(robot)
     mv = _MotionValidator(si, checker)
-    if checker.native is not None and not checker.extras:
+    if checker.native is not None and not checker.extras and not checker.hulls:
         # every question is answered in C: OMPL calls the native checker directly, no Python in between
         si.setStateValidityChecker(checker.native.ompl_state())
         mv.checkMotion = checker.native.ompl_motion()
@@ -459,7 +459,8 @@ def _solve(robot, cls, checker: JointSpaceChecker, start_q, goal_q, time_limit, 
         if not restart:
             status = pl.solve(solve_time)
             break
-        calls = checker.native.motion_calls()
+        # with hulls OMPL calls the Python checker (which asks the native one first): it counts the motions
+        calls = checker.native.motion_calls() if not checker.hulls else (lambda: checker.motions)
         first, limit = calls(), budget
         # each callback wraps OMPL's states in new Python objects: the cyclic collector would walk the heap
         # again and again (a few % of a long run); nothing cyclic is made meanwhile

@@ -100,6 +100,8 @@ class JointSpaceChecker:
         self._frames = None
         #: whether anything is checked in Python (formula and point-set windows, a σ_min floor, boxes)
         self.extras = bool(self._predicates or self.sigma_floor is not None or self.boxes)
+        #: motions checked by :meth:`motion_valid` so far (a planner's budget with hulls: see plan)
+        self.motions = 0
         #: the native checker of limits, interval windows and collisions (None: all in Python)
         self.native = None
         if native and native_motion.available() and (world is None or world.model.backend == "compiled"):
@@ -161,9 +163,16 @@ class JointSpaceChecker:
         r = self.refusal(q)
         return None if r is None else r[2]
 
+    @property
+    def hulls(self) -> bool:
+        """Whether the world refines its capsules by hulls (what the native checker cannot prove clear
+        is then proven again in Python)."""
+        return self.world is not None and self.world.refiner is not None
+
     def state_valid(self, q) -> bool:
         if self.native is not None:
-            if not self.native.state_valid(np.asarray(q, dtype=float)):
+            st = self.native.state_status(np.asarray(q, dtype=float))
+            if st != "clear" and not (st == "collision" and self.hulls and self.world.state_clear(q)):
                 return False
             return not self.extras or self._extras_valid(q)
         for i in range(self.n):
@@ -231,9 +240,16 @@ class JointSpaceChecker:
         """
         a = [float(x) for x in a]
         b = [float(x) for x in b]
+        self.motions += 1
         if self.native is not None:
-            if not self.native.motion_valid(np.array(a), np.array(b)):
-                return False
+            r = self.native.check(np.array(a), np.array(b))
+            if r.status != "clear":
+                # the capsules could not prove it: with hulls, the end states and the motion again in Python
+                if not (self.hulls and r.status in ("collision", "unproven")
+                        and self.world.state_clear(a) and self.world.state_clear(b)
+                        and certify_collision(self.world, [a, b], stop_at_first=True, explain=False,
+                                              native=False).proven):
+                    return False
             if not self.extras:
                 return True
             if not (self._extras_valid(b) and self._extras_valid(a)):

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from studies.cli.common import EXIT_OK, CliInputError
+from studies.cli.common import EXIT_OK, CliInputError, bounded
 from studies.jsonio import dump
 
 
@@ -72,7 +72,7 @@ def cmd_import_urdf(args, load_robot) -> int:
         chain = chain_from_serial(sc, args.convention, args.name, collision=not args.no_collision,
                                   max_capsules=args.capsules_per_mesh, package_dirs=packages,
                                   search="exhaustive" if args.thorough else "fast", progress=progress,
-                                  srdf=args.srdf)
+                                  srdf=args.srdf, hulls=None if args.hulls is None else args.hulls / 1000)
     notes = [str(w.message) for w in caught if issubclass(w.category, UrdfWarning)]
     for note in notes:
         print(f"rmt: warning: {note}", file=sys.stderr)
@@ -82,6 +82,7 @@ def cmd_import_urdf(args, load_robot) -> int:
         print(dump({"out": str(out), "name": chain.name, "joints": chain.n, "types": list(chain.joint_types),
                     "convention": chain.convention, "base_is_identity": chain.base.is_identity,
                     "tool_is_identity": chain.tool.is_identity, "capsules": 0 if g is None else len(g.capsules),
+                    "hulls": 0 if g is None else len(g.hulls),
                     "over_estimate": None if g is None else g.over_estimate,
                     "geometry_source": None if g is None else g.source, "source": chain.source,
                     "states": {k: list(v) for k, v in chain.states.items()}, "warnings": notes}))
@@ -93,7 +94,8 @@ def cmd_import_urdf(args, load_robot) -> int:
     print(f"{chain.n} joints ({types}), {chain.convention} DH, written to {out} (m, rad); "
           f"see it with: rmt show {out}")
     if g is not None:
-        print(f"collision geometry: {len(g.capsules)} capsules; {g.source}")
+        hulls = f", {len(g.hulls)} hulls" if g.hulls else ""
+        print(f"collision geometry: {len(g.capsules)} capsules{hulls}; {g.source}")
         if args.srdf:
             print(f"self-collision: {len(g.allowed)} body pair(s) the SRDF disables are not checked")
     elif not args.no_collision:
@@ -134,6 +136,10 @@ def add_commands(add) -> None:
     sp.add_argument("--thorough", action="store_true",
                     help="score every candidate cut of each mesh exactly (how the bundled arms were fitted; several "
                          "times slower)")
+    sp.add_argument("--hulls", nargs="?", const=1.0, default=None, metavar="MM", type=bounded(0.01, 100, "mm"),
+                    help="also keep each collision element as a hull (a mesh's convex hull thinned to within MM, "
+                         "default 1 mm): where the capsules come too close, clearances are the hulls' "
+                         "(tighter; checks slower there)")
     sp.add_argument("--package", action="append", metavar="NAME=DIR",
                     help="directory of the ROS package NAME for package:// mesh paths (repeatable; default: "
                          "the directory of that name above the URDF file)")

@@ -366,3 +366,47 @@ def test_sizes_a_robot_file_cannot_hold_are_refused(tmp_path, geometry, xyz, mes
     import re
     assert str(e.value).startswith(f"{path}: link 'b' collision 0") and "\n" not in str(e.value)
     assert re.search(message, str(e.value)), str(e.value)
+
+
+def test_imported_hulls_hold_every_mesh_vertex():
+    """``hulls``: each collision element also as a hull on its body; every vertex of the URDF's meshes, placed
+    by yourdfpy, lies within the hull's radius of the hull placed by body_frames (by coal's distance), and the
+    hulls survive a save and load."""
+    coal = pytest.importorskip("coal")
+    relative, tip = "ur_description/urdf/ur5_robot.urdf", "tool0"
+    path = erd_urdf(relative)
+    chain = import_urdf(str(path), tip=tip, hulls=1e-3)
+    g = chain.geometry
+    assert g.hulls and "hulls of every element" in g.source
+    assert kin.loads_robot(kin.dumps_robot(chain)).geometry.hulls == g.hulls
+    sc = read_serial_chain(str(path), tip=tip)
+    body_of = {lk.name: lk.body for lk in sc.links}
+    model, solids = urdf_solids(path)
+    names = chain.joint_names()
+    req = coal.DistanceRequest()
+
+    def hull(P):
+        vs = coal.StdVec_Vec3s()
+        for p in P:
+            vs.append(np.asarray(p, dtype=float))
+        return coal.Convex.convexHull(vs, False, None)
+    rng = np.random.default_rng(3)
+    checked = set()
+    for q in rng.uniform(chain.lower, chain.upper, size=(3, chain.n)):
+        model.update_cfg(dict(zip(names, q)))
+        F = body_frames(chain, q)[0]
+        for link, origin, V in solids:
+            if link not in body_of:
+                continue
+            world = place(np.asarray(model.get_transform(link, sc.base)) @ origin, V)
+            hs = [h for h in g.hulls if h.body == body_of[link] and len(h.points) >= 4]
+            if not hs:              # a box's hulls are its capsules (their containment is tested above)
+                assert any(h.body == body_of[link] for h in g.hulls), link
+                continue
+            checked.add(link)
+            placed = [(hull(h.array @ F[h.body, :3, :3].T + F[h.body, :3, 3]), h.radius) for h in hs]
+            for p in world[:: max(1, len(world) // 200)]:
+                d = min(coal.distance(H, coal.Transform3s(), coal.Sphere(1e-12), coal.Transform3s(np.eye(3), p), req,
+                                      coal.DistanceResult()) - r for H, r in placed)
+                assert d <= 1e-9, link
+    assert len(checked) >= 6

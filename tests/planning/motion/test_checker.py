@@ -60,7 +60,7 @@ def _valid(world, count, seed, near: bool = False):
     chain = world.chain
     rng = np.random.default_rng(seed)
     Q = rng.uniform(chain.lower, chain.upper, size=(20 * count, chain.n))
-    c = world.clearance(Q)
+    c = world.model.clearance(Q)
     ok = c > world.margin
     Q, c = Q[ok], c[ok]
     if near:
@@ -74,7 +74,7 @@ def test_states_agree_with_the_clearance_kernel(case):
     mc = MotionChecker(world.robot, world)
     chain = world.chain
     Q = np.random.default_rng(1).uniform(chain.lower, chain.upper, size=(3000, chain.n))
-    truth = world.clearance(Q) > world.margin
+    truth = world.model.clearance(Q) > world.margin
     got = np.array([mc.state_valid(q) for q in Q])
     assert truth.any() and (~truth).any(), "the sample must hold both valid and colliding states"
     assert np.array_equal(got, truth)
@@ -84,7 +84,7 @@ def test_states_agree_with_the_clearance_kernel(case):
 
 def _dense_min(world, a, b, count=2001):
     t = np.linspace(0.0, 1.0, count)
-    return world.clearance(a + t[:, None] * (b - a))
+    return world.model.clearance(a + t[:, None] * (b - a))
 
 
 @pytest.mark.parametrize("case", CASES)
@@ -106,7 +106,7 @@ def test_proven_motions_are_clear_at_every_dense_state(case, margin):
             assert mc.check(a, b, ordered=True).status == "clear", "ordered and unordered checks disagree"
         elif r.status == "collision":
             q = a + r.t * (b - a)
-            assert world.clearance(q) <= margin + 1e-7, "a reported collision must be a state that collides"
+            assert world.model.clearance(q) <= margin + 1e-7, "a reported collision must be a state that collides"
         else:       # left open: only where the motion comes within a hair of the margin (or touches)
             assert _dense_min(world, a, b, 20001).min() <= margin + 1e-5, f"motion {k} clear by a lot, not proven"
     assert seen["clear"] > 10 and seen["collision"] > 10

@@ -75,10 +75,15 @@ def test_pick_a_goal_is_the_nearest_valid_candidate_on_the_start_side(setup):
     assert "in the start's free cell; the nearest such one chosen" in info["why"]
 
 
-def test_place_low_has_no_goal_on_the_start_side_and_says_why(setup):
-    """From pick A the place-low pose's only branches with sin q3 > 0 and sin q5 < 0 (the start's sides
-    of the elbow and wrist slabs) collide: the forearm with wrist 2, the upper arm with the table."""
-    robot, ws, world, checker, cells = setup
+def test_place_low_on_capsules_alone_has_no_goal_on_the_start_side_and_says_why():
+    """With the UR5e's capsules alone (its hulls dropped), from pick A the place-low pose's only branches with
+    sin q3 > 0 and sin q5 < 0 (the start's sides of the elbow and wrist slabs) collide: the forearm with
+    wrist 2, the upper arm with the table — the query is answered at once, saying why."""
+    from dataclasses import replace
+    full = kin.load_robot("ur5e")
+    robot = kin.Robot(replace(full.chain, geometry=replace(full.chain.geometry, hulls=())))
+    ws = build_windows(robot, margin=math.radians(5))
+    world = collision_world(robot, CELL)
     start = robot.chain.to_si([-39.668, -76.876, 121.77, -134.89, -90, -129.67])
     pose = np.linalg.inv(world.base) @ _cell_pose(0.10, 0.40, 1.08, -90, 0, 0)
     Q = _independent_candidates(robot, pose)
@@ -90,6 +95,19 @@ def test_place_low_has_no_goal_on_the_start_side_and_says_why(setup):
     assert res.goal_branch["in_start_cell"] == 0
     assert "in collision (link 3 (elbow) against link 5 (wrist2)" in res.goal_branch["start_cell_reason"]
     assert "no joint path exists" in res.status and "in collision" in res.status
+
+
+def test_place_low_with_the_hulls_has_a_goal_on_the_start_side(setup):
+    """The bundled UR5e's hulls of its maker's meshes clear one of those branches (the capsules stand out of
+    the forearm and wrist 2 by more than the 12 mm between them): the goal is in the start's free cell."""
+    robot, ws, world, checker, cells = setup
+    start = robot.chain.to_si([-39.668, -76.876, 121.77, -134.89, -90, -129.67])
+    pose = np.linalg.inv(world.base) @ _cell_pose(0.10, 0.40, 1.08, -90, 0, 0)
+    q, info = goal_from_pose(robot, pose, start, checker, cells, 0)
+    assert info["in_start_cell"] > 0 and cells.same_cell(start, q)
+    assert np.sin(q[2]) > 0 and np.sin(q[4]) < 0
+    assert world.model.clear_one(q) < 0 < world.clearance(q)           # the capsules touch, the hulls do not
+    assert np.abs(fk_numpy(robot.chain, q) - pose).max() < 1e-9
 
 
 def test_no_valid_goal_names_the_reason_and_the_frame(setup):

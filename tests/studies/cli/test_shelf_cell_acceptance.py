@@ -1,10 +1,10 @@
 """Issue 29's acceptance pick-and-place on the bundled UR5e shelf cell: from home, windows of 5°, goals
 by pose in the CELL frame, each move starting where the last ended — through the Python API and the
-CLI.  Pick A, pick B and place high plan, proven (windows, σ_min floor, collisions), every joint
-travelling far less than a turn, re-checked densely by check_path.  Place low is reported precisely:
-its only branches on the start's side of the elbow and wrist slabs collide (forearm against wrist 2,
-upper arm against the table), so no goal exists in the start's free cell; the chosen goal across the
-elbow window is refused at once with that reason."""
+CLI.  Pick A, place low, pick B and place high all plan, proven (windows, σ_min floor, collisions),
+every joint travelling far less than a turn, re-checked densely by check_path.  Place low is the move
+the capsules alone refused (its branches on the start's side come within a centimetre of themselves and
+of the table, closer than the capsules stand out of the arm): the UR5e's hulls of its maker's meshes
+(``[[geometry.hull]]``) prove it clear."""
 from __future__ import annotations
 
 import json
@@ -58,10 +58,7 @@ def test_pick_and_place_python_api():
     res = plan(robot, q, None, ws, goal_pose=_pose(PICK_A), goal_frame="cell", world=world, sigma_min=1e-3)
     _check_move(robot, ws, world, res, PICK_A)
     q = res.path[-1]
-    low = plan(robot, q, None, ws, goal_pose=_pose(PLACE_LOW), goal_frame="cell", world=world, sigma_min=1e-3)
-    assert not low.success and low.separation is not None and "elbow" in low.separation.windows[0]
-    assert "link 3 (elbow) against link 5 (wrist2)" in low.status
-    for target in (PICK_B, PLACE_HIGH):                  # on from where the last successful move ended
+    for target in (PLACE_LOW, PICK_B, PLACE_HIGH, PICK_A):       # on from where the last move ended
         res = plan(robot, q, None, ws, goal_pose=_pose(target), goal_frame="cell", world=world, sigma_min=1e-3)
         _check_move(robot, ws, world, res, target)
         q = res.path[-1]
@@ -84,10 +81,6 @@ def test_pick_and_place_cli(capsys, tmp_path):
                          ("place_high", PLACE_HIGH)):
         rc, d, out_csv = _cli(capsys, start, target, tmp_path, name)
         assert d["goal_frame"] == "cell"
-        if name == "place_low":
-            assert rc == 1 and d["separation"]["kind"] == "slab" and d["goal_branch"]["in_start_cell"] == 0
-            assert "in collision" in d["goal_branch"]["start_cell_reason"]
-            continue
         assert rc == 0 and d["success"] and d["proven"] and d["checks"]["collisions"] == "proven"
         P = np.array(d["path"])
         assert np.abs(np.diff(P, axis=0)).sum(axis=0).max() <= 180.0
