@@ -125,6 +125,15 @@ class CollisionWorld:
             self._split = (obs, slf)
         return self._split
 
+    @property
+    def shapes_text(self) -> str:
+        """What the clearances are measured on, in words: ``"capsules"``, or the capsules and the hulls."""
+        if self.refiner is None:
+            return "capsules"
+        from kin.geometry.hulls import BAND
+        return (f"capsules, and the hulls of {len(self.refiner.hull_bodies)} bodies where the capsules come within "
+                f"{(self.margin + BAND) * 1e3:.3g} mm")
+
     def state_clear(self, q) -> bool:
         """Whether one configuration (a sequence of n floats) is clear by more than the margin."""
         if self.model.clear_one(q) > self.margin:

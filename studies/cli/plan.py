@@ -129,7 +129,8 @@ def cmd_plan(args, load_robot) -> int:
                 print(f"σ_min floor: {floor.text}")
             if world is not None:
                 print(f"collisions with the cell and the robot itself: {res.check.collision_check}; min clearance "
-                      f"{dense.min_clearance * 1e3:.4g} mm (proven ≥ {(dense.clearance_bound or 0.0) * 1e3:.4g} mm)")
+                      f"{dense.min_clearance * 1e3:.4g} mm (proven ≥ {(dense.clearance_bound or 0.0) * 1e3:.4g} mm; "
+                      f"{world.shapes_text})")
                 print("  " + "; ".join(dense.nearest.lines()))      # the cell apart from the robot's own pairs
             if timed is not None:
                 print(f"timed rest to rest, stopping at every waypoint: {timed['duration_s']:.6g} s "
@@ -238,7 +239,7 @@ def cmd_check_path(args, load_robot) -> int:
             f"; σ_min ≥ {floor.value:g} (SI) {chk.sigma_check}"
         if world is not None:
             how += (f"; collisions {chk.collision_check}, min clearance {chk.min_clearance * 1e3:.4g} mm "
-                    f"(row {chk.min_clearance_index})")
+                    f"(row {chk.min_clearance_index}; {world.shapes_text})")
         print(f"valid: {len(P)} rows, {chk.checked_states} states checked{how}; min σ_min {chk.min_sigma:.3g} (SI) "
               f"(row {chk.min_sigma_index})")
     else:
