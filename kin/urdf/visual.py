@@ -61,7 +61,8 @@ def visual_meshes(sc, chain, package_dirs=None) -> tuple[tuple, str]:
             out.append(VisualMesh(lk.body, str(Path(file).resolve()), pose, tuple(float(x) for x in scale), rgba,
                                   lk.name))
     if skipped:                         # one warning for them all: a URDF without its visual files is common
-        more = f" (and {len(skipped) - 1} more, on links {', '.join(dict.fromkeys(skipped))})" if len(skipped) > 1 else ""
+        links = ", ".join(dict.fromkeys(skipped))
+        more = f" (and {len(skipped) - 1} more, on links {links})" if len(skipped) > 1 else ""
         warnings.warn(UrdfWarning(f"{first}{more}; visual meshes left out (drawn as the bodies' capsules)"),
                       stacklevel=3)
     if len(out) > min(MAX_VISUALS, MAX_VISUAL_MESHES):
