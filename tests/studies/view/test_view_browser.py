@@ -93,9 +93,9 @@ def joint_input(page, label: str):
 
 
 @pytest.mark.slow
-def test_weld_cell_view_draws_moves_and_stops(tmp_path):
-    from tests.browser import CHROMIUM_ARGS, canvas_stats, drawing_seen, ensure_chromium
-    chromium = ensure_chromium()
+def test_weld_cell_view_draws_moves_and_stops(tmp_path, report_browser):
+    # the session's one Chromium (tests/studies/conftest.py): a second Playwright in this thread would refuse
+    from tests.browser import canvas_stats, drawing_seen
     r = rmt("plan", ROBOT, "--start", *START, "--goal", "40", "20", "-10", "0", "-80", "0", "--margin", "3",
             "--cell", "fanuc_weld_cell", "--out", "weld.csv", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
@@ -112,51 +112,49 @@ def test_weld_cell_view_draws_moves_and_stops(tmp_path):
             with socket.socket() as s:
                 s.settimeout(2)
                 assert s.connect_ex((own, port)) != 0
-        from playwright.sync_api import sync_playwright
-        with sync_playwright() as pw:
-            browser = pw.chromium.launch(executable_path=chromium, args=CHROMIUM_ARGS)
-            try:
-                page = browser.new_page(viewport={"width": 1300, "height": 850})
-                page.goto(url, timeout=60_000)
-                page.wait_for_selector("text=tool (cell frame", timeout=60_000)
-                text = page.inner_text("body")
-                # the start configuration (the path's first row) as rmt fk gives it
-                assert np.allclose(shown_position(text), expected_position([0, 0, 0, 0, -90, 0]), atol=1e-3), text
-                assert "σ_min" in text and "nearest obstacle" in text and "nearest self pair" in text
-                assert "windows" in text
-                canvas = page.locator("canvas").first
-                deadline = time.monotonic() + 30
-                while True:                               # WebGL in software: the first frames may be blank
-                    png = canvas.screenshot()
-                    if drawing_seen(png) or time.monotonic() > deadline:
-                        break
-                    time.sleep(0.5)
-                share, colours = canvas_stats(png)
-                assert drawing_seen(png), f"blank canvas: {colours} colours, top colour {share:.0%}"
-                if os.environ.get("RMT_DOCS_SCREENSHOTS") == "1":
-                    # the browser's "software WebGL" notice is this machine's, not the view's
-                    page.add_style_tag(content=".mantine-Notification-root { display: none !important; }")
-                    time.sleep(0.5)
-                    import io
+        context = report_browser._launch().new_context(viewport={"width": 1300, "height": 850})
+        try:
+            page = context.new_page()
+            page.goto(url, timeout=60_000)
+            page.wait_for_selector("text=tool (cell frame", timeout=60_000)
+            text = page.inner_text("body")
+            # the start configuration (the path's first row) as rmt fk gives it
+            assert np.allclose(shown_position(text), expected_position([0, 0, 0, 0, -90, 0]), atol=1e-3), text
+            assert "σ_min" in text and "nearest obstacle" in text and "nearest self pair" in text
+            assert "windows" in text
+            canvas = page.locator("canvas").first
+            deadline = time.monotonic() + 30
+            while True:                               # WebGL in software: the first frames may be blank
+                png = canvas.screenshot()
+                if drawing_seen(png) or time.monotonic() > deadline:
+                    break
+                time.sleep(0.5)
+            share, colours = canvas_stats(png)
+            assert drawing_seen(png), f"blank canvas: {colours} colours, top colour {share:.0%}"
+            if os.environ.get("RMT_DOCS_SCREENSHOTS") == "1":
+                # the browser's "software WebGL" notice is this machine's, not the view's
+                page.add_style_tag(content=".mantine-Notification-root { display: none !important; }")
+                time.sleep(0.5)
+                import io
 
-                    from PIL import Image
-                    shot = Image.open(io.BytesIO(page.screenshot())).convert("RGB")
-                    shot.quantize(256, dither=Image.Dither.NONE).save(ROOT / "docs" / "img" / "view-weld-cell.png",
-                                                                      optimize=True)
-                # J1 to 30° through the page: the readout follows, to rmt fk's value
-                box = joint_input(page, "J1 [deg]")
-                box.fill("30")
-                box.press("Enter")
-                want = expected_position([30, 0, 0, 0, -90, 0])
-                deadline = time.monotonic() + 30
-                while True:
-                    got = shown_position(page.inner_text("body"))
-                    if (got is not None and np.allclose(got, want, atol=1e-3)) or time.monotonic() > deadline:
-                        break
-                    time.sleep(0.2)
-                assert got is not None and np.allclose(got, want, atol=1e-3), (got, want)
-            finally:
-                browser.close()
+                from PIL import Image
+                shot = Image.open(io.BytesIO(page.screenshot())).convert("RGB")
+                shot.quantize(256, dither=Image.Dither.NONE).save(ROOT / "docs" / "img" / "view-weld-cell.png",
+                                                                  optimize=True)
+            # J1 to 30° through the page: the readout follows, to rmt fk's value
+            box = joint_input(page, "J1 [deg]")
+            box.fill("30")
+            box.press("Enter")
+            want = expected_position([30, 0, 0, 0, -90, 0])
+            deadline = time.monotonic() + 30
+            while True:
+                got = shown_position(page.inner_text("body"))
+                if (got is not None and np.allclose(got, want, atol=1e-3)) or time.monotonic() > deadline:
+                    break
+                time.sleep(0.2)
+            assert got is not None and np.allclose(got, want, atol=1e-3), (got, want)
+        finally:
+            context.close()
     finally:
         code, out = stop_view(proc)
     assert code == 0, out
