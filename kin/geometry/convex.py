@@ -27,7 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["Solid", "points_solid", "box_solid", "cylinder_solid", "convex_distance", "CYLINDER_SIDES"]
+__all__ = ["Solid", "points_solid", "box_solid", "cylinder_solid", "convex_distance", "convex_distance_numpy",
+           "c_distance", "CYLINDER_SIDES"]
 
 #: relative gap at which GJK stops (the bound is certified whatever it is; this only sets tightness)
 REL_TOL = 1e-9
@@ -45,7 +46,7 @@ class Solid:
     """A convex solid: the hull of ``points`` (k, 3, its own frame) placed by ``pose`` (4×4; None:
     identity), dilated by ``radius`` (m)."""
 
-    __slots__ = ("points", "pose", "radius")
+    __slots__ = ("points", "pose", "radius", "ptr", "pose_ptr", "centre", "placed_centre", "reach")
 
     def __init__(self, points, pose=None, radius: float = 0.0):
         P = np.ascontiguousarray(points, dtype=float).reshape(-1, 3)
@@ -54,6 +55,13 @@ class Solid:
         self.points = P
         self.pose = None if pose is None else np.ascontiguousarray(pose, dtype=float).reshape(4, 4)
         self.radius = float(radius)
+        #: the addresses the C search reads (the arrays are kept alive by this object)
+        self.ptr = P.ctypes.data
+        self.pose_ptr = None if self.pose is None else self.pose.ctypes.data
+        #: a ball that holds the solid: its centre in the points' frame and placed by the pose, its radius (m)
+        self.centre = P.mean(axis=0)
+        self.placed_centre = self.centre if self.pose is None else self.pose[:3, :3] @ self.centre + self.pose[:3, 3]
+        self.reach = float(np.sqrt(((P - self.centre) ** 2).sum(axis=1)).max()) + self.radius
 
     def support(self, u: np.ndarray) -> np.ndarray:
         """A point of the (undilated) solid farthest along ``u``."""
@@ -84,6 +92,19 @@ def cylinder_solid(radius: float, half_length: float, pose) -> Solid:
     ring = np.c_[R * np.cos(a), R * np.sin(a)]
     P = np.vstack([np.c_[ring, np.full(len(a), -half_length)], np.c_[ring, np.full(len(a), half_length)]])
     return Solid(P, pose)
+
+
+def c_distance():
+    """The C search as a ctypes function (points pointer, count, pose pointer or None, radius — for A,
+    then for B) → the bound; None without a compiler (numpy then).  Looked up once per process."""
+    global _FN
+    if _FN is _UNSET:
+        _FN = _library()
+    return _FN
+
+
+_UNSET = object()
+_FN = _UNSET
 
 
 def _library():
@@ -140,10 +161,9 @@ def _nearest_on_simplex(W: list[np.ndarray]) -> tuple[np.ndarray, list[np.ndarra
 def convex_distance(A: Solid, B: Solid) -> float:
     """A certified lower bound of the distance between solids ``A`` and ``B`` (m; ≤ 0 when they may
     touch), tight to about :data:`REL_TOL` of it where they are apart."""
-    fn = _library()
+    fn = c_distance()
     if fn is not None:
-        return fn(A.points.ctypes.data, len(A.points), None if A.pose is None else A.pose.ctypes.data, A.radius,
-                  B.points.ctypes.data, len(B.points), None if B.pose is None else B.pose.ctypes.data, B.radius)
+        return fn(A.ptr, len(A.points), A.pose_ptr, A.radius, B.ptr, len(B.points), B.pose_ptr, B.radius)
     return convex_distance_numpy(A, B)
 
 

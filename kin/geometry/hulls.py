@@ -20,9 +20,11 @@ entries are never lowered.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from kin.geometry.convex import box_solid, convex_distance, cylinder_solid, points_solid
+from kin.geometry.convex import Solid, box_solid, c_distance, convex_distance_numpy, cylinder_solid, points_solid
 from kin.geometry.frames import body_frames
 
 __all__ = ["HullRefiner", "BAND"]
@@ -58,12 +60,13 @@ class HullRefiner:
         self.chain = chain
         self.base = np.eye(4) if base is None else np.asarray(base, dtype=float)
         n = chain.n
+        self.B = n + 2
         self.hull_bodies = sorted({h.body for h in geometry.hulls})
-        # per body: its hulls (points, radius), or its capsules where it has no hull
-        self.parts: dict[int, list[tuple[np.ndarray, float]]] = {}
+        # per body: its hulls, or its capsules where it has none — as solids in the body's frame
+        self.parts: dict[int, list[Solid]] = {}
         for b in range(n + 2):
-            hs = [(h.array, h.radius) for h in geometry.hulls if h.body == b]
-            cs = [(np.array([c.a, c.b]), c.radius) for c in geometry.capsules if c.body == b]
+            hs = [Solid(h.array, None, h.radius) for h in geometry.hulls if h.body == b]
+            cs = [Solid(np.array([c.a, c.b]), None, c.radius) for c in geometry.capsules if c.body == b]
             self.parts[b] = hs or cs
         self.obstacles = [(ob, _obstacle_solids(ob)) for ob in obstacles]
         # every checked pair of a body that has hulls or is paired with one (an entry is the least over
@@ -75,16 +78,30 @@ class HullRefiner:
                 self.pairs[i].append(j)
             if j in touched:
                 self.pairs[j].append(i)
+        self._fn = c_distance()
 
     def __bool__(self) -> bool:
         return bool(self.hull_bodies)
 
-    def _solids(self, F: np.ndarray, b: int) -> list:
-        return [points_solid(P, r, F[b]) for P, r in self.parts[b]]
-
-    @staticmethod
-    def _distance(A: list, B: list) -> float:
-        return min(convex_distance(a, b) for a in A for b in B)
+    def _distance(self, A: list, FA, pa, B: list, FB, pb, best: float) -> float:
+        """The least bound between solids ``A`` (placed by the 4×4 ``FA`` at address ``pa``, or None: their
+        own poses) and ``B`` (likewise), or ``best`` when none can be nearer (balls around them first)."""
+        fn = self._fn
+        for a in A:
+            ca = a.placed_centre if FA is None else FA[:3, :3] @ a.centre + FA[:3, 3]
+            for b in B:
+                cb = b.placed_centre if FB is None else FB[:3, :3] @ b.centre + FB[:3, 3]
+                if math.dist(ca, cb) - a.reach - b.reach >= best:
+                    continue                     # their balls are farther apart than the best so far
+                if fn is not None:
+                    d = fn(a.ptr, len(a.points), a.pose_ptr if FA is None else pa, a.radius,
+                           b.ptr, len(b.points), b.pose_ptr if FB is None else pb, b.radius)
+                else:
+                    d = convex_distance_numpy(Solid(a.points, a.pose if FA is None else FA, a.radius),
+                                              Solid(b.points, b.pose if FB is None else FB, b.radius))
+                if d < best:
+                    best = d
+        return best
 
     def refine(self, Q: np.ndarray, obs: np.ndarray, slf: np.ndarray, margin: float, cap: float,
                band: float = BAND) -> tuple[np.ndarray, np.ndarray]:
@@ -98,14 +115,15 @@ class HullRefiner:
         Q, Ob, S = np.atleast_2d(Q), np.atleast_2d(obs), np.atleast_2d(slf)
         lim = margin + band
         rows = np.flatnonzero((Ob[:, self.hull_bodies] <= lim).any(axis=1) | (S <= lim).any(axis=1))
-        for i in rows:
-            F = body_frames(self.chain, Q[i][None], base=self.base)[0]
-            solids: dict[int, list] = {}
+        if not len(rows):
+            return (Ob[0], S[0]) if single else (Ob, S)
+        frames = np.ascontiguousarray(body_frames(self.chain, Q[rows], base=self.base))     # (R, B, 4, 4)
+        at = frames.ctypes.data
+        for k, i in enumerate(rows):
+            F = frames[k]
 
-            def get(b):
-                if b not in solids:
-                    solids[b] = self._solids(F, b)
-                return solids[b]
+            def ptr(b):
+                return at + (k * self.B + b) * 128          # F[b]'s address: 16 doubles a frame
             for b in self.hull_bodies:
                 if Ob[i, b] > lim:
                     continue
@@ -116,7 +134,7 @@ class HullRefiner:
                     if sol is None:
                         best = -np.inf
                         break
-                    best = min(best, self._distance(get(b), sol))
+                    best = self._distance(self.parts[b], F[b], ptr(b), sol, None, None, best)
                     if best <= Ob[i, b]:
                         break
                 if best > max(Ob[i, b], 0.0):
@@ -129,7 +147,7 @@ class HullRefiner:
                 for j in self.pairs[b]:
                     key = (min(b, j), max(b, j))
                     if key not in done:
-                        done[key] = self._distance(get(b), get(j))
+                        done[key] = self._distance(self.parts[b], F[b], ptr(b), self.parts[j], F[j], ptr(j), np.inf)
                     best = min(best, done[key])
                     if best <= S[i, b]:
                         break
