@@ -35,6 +35,8 @@ SLOW_TESTS = (
     "tests/planning/certify/test_points.py::test_proven_segments_are_clear_and_violations_are_inside",
     "tests/studies/benchmarks/test_bench_mbm.py::test_one_problem_per_scene_reports_every_figure",
     "tests/studies/benchmarks/test_bench_startup.py::test_the_report_holds_every_command",
+    "tests/planning/timing/test_reachability.py::test_same_duration_as_the_osqp_method",
+    "tests/planning/certify/test_points.py::test_segments_through_a_point_are_never_proven",
 )
 
 #: `rmt` commands of the docs' examples that run a study, a sweep, an optimisation or a follower

@@ -280,16 +280,17 @@ def bench_scene(robot, windows, scene: str, count: int, seed: int, profiler=None
             "draw": tally, "load": load.as_dict(), "summary": summary, "runs": rows}
 
 
-def bench_robot(name: str, count: int, seed: int, geometry: str, profiler=None, log=None) -> dict:
+def bench_robot(name: str, count: int, seed: int, geometry: str, profiler=None, log=None, scenes=None) -> dict:
     robot = load_robot(name, geometry)
     t0 = time.perf_counter()
     windows = build_windows(robot, margin=MARGIN)
     t_windows = time.perf_counter() - t0
     if log:
         log(f"{name}: {len(windows.windows)} windows ({t_windows:.1f} s), geometry '{robot.geometry.source}'")
-    scenes = [bench_scene(robot, windows, scene, count, seed + 100 * i, profiler, log)
-              for i, scene in enumerate(SCENES)]
+    scenes = [bench_scene(robot, windows, scene, count, seed + 100 * list(SCENES).index(scene), profiler, log)
+              for scene in (SCENES if scenes is None else scenes)]
     return {"robot": name, "geometry_source": robot.geometry.source, "capsules": len(robot.geometry.capsules),
+            "hulls": len(robot.geometry.hulls),
             "windows": [{"name": w.name, "joints": list(w.joints)} for w in windows.windows], "windows_s": t_windows,
             "scenes": scenes}
 
@@ -319,13 +320,18 @@ def profile_table(profiler: cProfile.Profile, top: int = 25) -> dict:
     return out
 
 
-def run(quick: bool = False, log=None, geometry: str = "robot", profile: bool = False, robots=None) -> dict:
+def run(quick: bool = False, log=None, geometry: str = "robot", profile: bool = False, robots=None,
+        scene: str | None = None) -> dict:
     t0 = time.perf_counter()
     robots = ROBOTS if robots is None else robots
+    if scene is not None and scene not in SCENES:
+        raise SystemExit(f"bench_cell_plan: scene {scene!r} unknown; allowed: {', '.join(SCENES)}")
+    scenes = SCENES if scene is None else [scene]
     count = QUICK_QUERIES if quick else QUERIES
     profiler = cProfile.Profile() if profile else None
     with ForeignLoad() as load:
-        results = [bench_robot(name, count, SEED + 1000 * i, geometry, profiler, log) for i, name in enumerate(robots)]
+        results = [bench_robot(name, count, SEED + 1000 * i, geometry, profiler, log, scenes)
+                   for i, name in enumerate(robots)]
     from importlib import metadata
     try:
         ompl_version = metadata.version("ompl")
@@ -419,12 +425,16 @@ def main(argv=None) -> int:
     ap.add_argument("--json", action="store_true", help="print one JSON object with all figures instead of the table")
     ap.add_argument("--quick", action="store_true", help=f"{QUICK_QUERIES} queries per scene and robot (smoke test)")
     ap.add_argument("--profile", action="store_true", help="cProfile the planning calls and report the top costs")
-    ap.add_argument("--geometry", choices=("robot", "urdf"), default="robot",
-                    help="the Panda's capsules: the bundled robot's (default) or those the import of "
-                         "example-robot-data's panda.urdf gives")
+    ap.add_argument("--geometry", choices=("robot", "urdf", "capsules"), default="robot",
+                    help="the robots' geometry: the bundled robot's (default: the UR5e's capsules and hulls), "
+                         "its capsules alone (capsules), or the Panda's from the import of example-robot-data's "
+                         "panda.urdf (urdf)")
+    ap.add_argument("--robot", choices=ROBOTS, help="only this robot (default: both)")
+    ap.add_argument("--scene", help=f"only this scene (one of {', '.join(SCENES)}; default: all)")
     args = ap.parse_args(argv)
     return measure_and_print("bench_cell_plan", args.json,
-                             lambda log: run(args.quick, log, args.geometry, args.profile), format_report)
+                             lambda log: run(args.quick, log, args.geometry, args.profile,
+                                             None if args.robot is None else (args.robot,), args.scene), format_report)
 
 
 if __name__ == "__main__":

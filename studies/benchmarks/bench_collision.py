@@ -114,7 +114,13 @@ def load_robot(name: str, geometry: str = "robot"):
     or with ``geometry="urdf"`` the Panda imported from example-robot-data's URDF (its capsules are
     what :func:`kin.urdf.import_urdf` reads from the URDF's collision elements).  Other robots keep
     their bundled geometry (example-robot-data ships the UR5, UR3 and UR10 of the CB3 series, not
-    the UR5e).  Raises RuntimeError when the import gives no collision geometry."""
+    the UR5e); ``geometry="capsules"``: the bundled robot's capsules without its hulls.  Raises
+    RuntimeError when the import gives no collision geometry."""
+    if geometry == "capsules":                # the bundled geometry without its hulls (the UR5e has some)
+        from dataclasses import replace
+        robot = kin.load_robot(name)
+        g = robot.chain.geometry
+        return robot if g is None or not g.hulls else kin.Robot(replace(robot.chain, geometry=replace(g, hulls=())))
     if geometry == "robot" or name != "franka_panda":
         return kin.load_robot(name)
     from kin.urdf import import_urdf
