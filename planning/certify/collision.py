@@ -192,7 +192,10 @@ def certify_collision(world, path, max_depth: int = MAX_DEPTH, max_evals: int = 
 def _hull_retry(world, P, proof: CollisionProof, max_depth, max_evals, stop_at_first, explain, bound) -> CollisionProof:
     """The native proof failed on a world with hulls: every segment it did not prove (from the first
     failing one on) proven again in Python, where the hulls count."""
-    first = min([*proof.unproven, *([proof.violation.segment] if proof.violation is not None else [])])
+    failed = [*proof.unproven, *([proof.violation.segment] if proof.violation is not None else [])]
+    if not failed:
+        return proof
+    first = min(failed)
     again = certify_collision(world, P[first:], max_depth, max_evals, stop_at_first, explain, bound, native=False)
     if first == 0:
         return again
