@@ -135,8 +135,27 @@ def test_structure_read_from_the_dh_values_not_the_name():
             assert _gap(B, q).min() <= 1e-7
 
 
+def test_ur5e_structure_holds_the_published_lengths():
+    """The structure read from the UR5e's DH rows (modified DH) carries Universal Robots' published
+    lengths: d1 0.1625, a2 −0.425, a3 −0.3922, d4 0.1333, d5 0.0997, d6 0.0996 m."""
+    arm = parallel_arm(kin.load_chain("ur5e"))
+    assert isinstance(arm, ParallelArm)
+    assert np.allclose(arm.a, [0, 0, -0.425, -0.3922, 0, 0], atol=1e-12)
+    assert np.allclose(arm.d, [0.1625, 0, 0, 0.1333, 0.0997, 0.0996], atol=1e-12)
+    assert np.allclose(np.abs(np.sin(arm.alpha)), [0, 1, 0, 0, 1, 1], atol=1e-12)
+
+
 def test_other_structures_are_refused_with_the_reason():
-    assert "parallel" in parallel_arm(kin.load_chain("puma560"))
+    puma = kin.load_chain("puma560")
+    assert abs(math.sin(puma.to_modified().dh_table()[3, 1])) > 0.99    # α3 = ±90°: axes 3 and 4 cross
+    assert "parallel" in parallel_arm(puma)
+    # the parallelism test's tolerance: a twist 1e-12 rad off 0 is parallel, 1e-6 rad off is not
+    m = kin.load_chain("ur5e").to_modified()
+    for tilt, parallel in ((1e-12, True), (1e-6, False)):
+        js = list(m.joints)
+        js[2] = replace(js[2], alpha=tilt)
+        arm = parallel_arm(replace(m, joints=tuple(js)))
+        assert isinstance(arm, ParallelArm) == parallel, (tilt, arm)
     for name in ("stanford_arm", "planar_2r", "kuka_iiwa14"):
         with pytest.raises(NoClosedFormError, match="spherical wrist|six revolute"):
             analytic_ik(kin.load_robot(name), np.eye(4))
