@@ -16,21 +16,9 @@ from kin.geometry.convex import (
     points_solid,
 )
 from kin.transforms import make_transform, rpy_to_matrix
+from tests.coal_ref import hull, placed_distance
 
 coal = pytest.importorskip("coal")
-
-
-def _coal_convex(P):
-    vs = coal.StdVec_Vec3s()
-    for p in P:
-        vs.append(np.asarray(p, dtype=float))
-    return coal.Convex.convexHull(vs, False, None)
-
-
-def _coal_distance(g1, T1, g2, T2):
-    req, res = coal.DistanceRequest(), coal.DistanceResult()
-    return coal.distance(g1, coal.Transform3s(T1[:3, :3], T1[:3, 3]), g2, coal.Transform3s(T2[:3, :3], T2[:3, 3]),
-                         req, res)
 
 
 def _pose(rng, spread):
@@ -44,13 +32,13 @@ def test_hull_hull_and_hull_box_match_coal(seed):
     Q = rng.normal(size=(30, 3)) * [0.06, 0.1, 0.03]
     T1, T2 = _pose(rng, 0.3), _pose(rng, 0.3)
     P1, Q2 = P @ T1[:3, :3].T + T1[:3, 3], Q @ T2[:3, :3].T + T2[:3, 3]
-    ref = _coal_distance(_coal_convex(P), T1, _coal_convex(Q), T2)
+    ref = placed_distance(hull(P), T1, hull(Q), T2)
     got = convex_distance(points_solid(P1), points_solid(Q2))
     assert got <= ref + 1e-9 if ref > 0 else got <= 0.0    # a lower bound; never clear when touching
     if ref > 1e-6:
         assert got == pytest.approx(ref, abs=1e-7)        # and tight when apart
     half = rng.uniform(0.02, 0.2, 3)
-    ref = _coal_distance(_coal_convex(P), T1, coal.Box(*(2 * half)), T2)
+    ref = placed_distance(hull(P), T1, coal.Box(*(2 * half)), T2)
     got = convex_distance(points_solid(P1), box_solid(half, T2))
     assert got <= ref + 1e-9 if ref > 0 else got <= 0.0
     if ref > 1e-6:
@@ -66,12 +54,12 @@ def test_capsule_and_cylinder_match_coal(seed):
     T2 = _pose(rng, 0.5)
     r, hl = 0.04, 0.15
     a, b = T2[:3, 3] - hl * T2[:3, 2], T2[:3, 3] + hl * T2[:3, 2]
-    ref = _coal_distance(_coal_convex(P), T1, coal.Capsule(r, 2 * hl), T2)
+    ref = placed_distance(hull(P), T1, coal.Capsule(r, 2 * hl), T2)
     got = convex_distance(points_solid(P1), points_solid([a, b], r))
     assert got <= ref + 1e-9 if ref > 0 else got <= 0.0
     if ref > 1e-6:
         assert got == pytest.approx(ref, abs=1e-7)
-    ref = _coal_distance(_coal_convex(P), T1, coal.Cylinder(r, 2 * hl), T2)
+    ref = placed_distance(hull(P), T1, coal.Cylinder(r, 2 * hl), T2)
     got = convex_distance(points_solid(P1), cylinder_solid(r, hl, T2))
     assert got <= ref + 1e-9 if ref > 0 else got <= 0.0
     if ref > 1e-6:                   # the prism around the cylinder stands out by at most this

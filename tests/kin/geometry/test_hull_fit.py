@@ -6,15 +6,9 @@ import numpy as np
 import pytest
 
 from kin.geometry.hull_fit import thin_hull
+from tests.coal_ref import frame_along, hull, placed_distance
 
 coal = pytest.importorskip("coal")
-
-
-def _hull(P):
-    vs = coal.StdVec_Vec3s()
-    for p in P:
-        vs.append(np.asarray(p, dtype=float))
-    return coal.Convex.convexHull(vs, False, None)
 
 
 @pytest.mark.parametrize("seed", range(4))
@@ -28,13 +22,10 @@ def test_thin_hull_holds_every_point(seed):
     kept, radius = thin_hull(P, 1e-3, decimals=4)
     assert len(kept) < 0.5 * len(rim)
     assert radius == pytest.approx(1e-3 + np.sqrt(3) / 2 * 1e-4)
-    H = _hull(kept)
-    req = coal.DistanceRequest()
+    H, point = hull(kept), coal.Sphere(1e-9)
     worst = 0.0
     for p in P:
-        res = coal.DistanceResult()
-        d = coal.distance(H, coal.Transform3s(), coal.Sphere(1e-9), coal.Transform3s(np.eye(3), p), req, res)
-        worst = max(worst, d)
+        worst = max(worst, placed_distance(H, np.eye(4), point, frame_along(p, p)))
     assert worst <= radius
 
 

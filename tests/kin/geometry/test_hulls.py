@@ -16,35 +16,9 @@ from kin.robotfile import dumps_robot, loads_robot
 from planning.certify.collision import certify_collision
 from planning.collision import collision_world
 from studies.cli.common import cell_file
+from tests.coal_ref import frame_along, hull, placed_distance
 
 coal = pytest.importorskip("coal")
-
-
-def _coal_hull(P):
-    vs = coal.StdVec_Vec3s()
-    for p in P:
-        vs.append(np.asarray(p, dtype=float))
-    return coal.Convex.convexHull(vs, False, None)
-
-
-def _along(a, b):
-    """A frame at the midpoint of a–b with z along it."""
-    T = np.eye(4)
-    T[:3, 3] = (a + b) / 2
-    u = b - a
-    n = np.linalg.norm(u)
-    if n > 1e-12:
-        z = u / n
-        x = np.cross(z, [1.0, 0, 0] if abs(z[0]) < 0.9 else [0, 1.0, 0])
-        x /= np.linalg.norm(x)
-        T[:3, 0], T[:3, 1], T[:3, 2] = x, np.cross(z, x), z
-    return T
-
-
-def _distance(g1, T1, g2, T2):
-    req, res = coal.DistanceRequest(), coal.DistanceResult()
-    return coal.distance(g1, coal.Transform3s(T1[:3, :3], T1[:3, 3]), g2, coal.Transform3s(T2[:3, :3], T2[:3, 3]),
-                         req, res)
 
 
 def test_bundled_ur5e_has_hulls_that_round_trip():
@@ -129,13 +103,13 @@ def _coal_per_body(world, q):
     for b in range(B):
         hs = [h for h in world.geometry.hulls if h.body == b]
         if hs:
-            geo[b] = [(_coal_hull(h.array), F[b], h.radius) for h in hs]
+            geo[b] = [(hull(h.array), F[b], h.radius) for h in hs]
         else:
             geo[b] = []
             for c in world.geometry.capsules:
                 if c.body == b:
                     a, e = F[b, :3, :3] @ np.array(c.a) + F[b, :3, 3], F[b, :3, :3] @ np.array(c.b) + F[b, :3, 3]
-                    geo[b].append((coal.Capsule(c.radius, float(np.linalg.norm(e - a))), _along(a, e), 0.0))
+                    geo[b].append((coal.Capsule(c.radius, float(np.linalg.norm(e - a))), frame_along(a, e), 0.0))
     obs, slf = np.full(B, np.inf), np.full(B, np.inf)
     for b in range(B):
         for ob in world.obstacles:
@@ -145,9 +119,9 @@ def _coal_per_body(world, q):
                 assert sh.kind == "box"
                 box = coal.Box(*(2 * np.asarray(sh.size)))
                 for g, T, r in geo[b]:
-                    obs[b] = min(obs[b], _distance(g, T, box, sh.pose) - r)
+                    obs[b] = min(obs[b], placed_distance(g, T, box, sh.pose) - r)
     for i, j in world.pairs:
-        d = min(_distance(g1, T1, g2, T2) - r1 - r2 for g1, T1, r1 in geo[i] for g2, T2, r2 in geo[j])
+        d = min(placed_distance(g1, T1, g2, T2) - r1 - r2 for g1, T1, r1 in geo[i] for g2, T2, r2 in geo[j])
         slf[i], slf[j] = min(slf[i], d), min(slf[j], d)
     return obs, slf
 

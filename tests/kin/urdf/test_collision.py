@@ -383,13 +383,8 @@ def test_imported_hulls_hold_every_mesh_vertex():
     body_of = {lk.name: lk.body for lk in sc.links}
     model, solids = urdf_solids(path)
     names = chain.joint_names()
-    req = coal.DistanceRequest()
-
-    def hull(P):
-        vs = coal.StdVec_Vec3s()
-        for p in P:
-            vs.append(np.asarray(p, dtype=float))
-        return coal.Convex.convexHull(vs, False, None)
+    from tests.coal_ref import frame_along, hull, placed_distance
+    point = coal.Sphere(1e-12)
     rng = np.random.default_rng(3)
     checked = set()
     for q in rng.uniform(chain.lower, chain.upper, size=(3, chain.n)):
@@ -406,7 +401,6 @@ def test_imported_hulls_hold_every_mesh_vertex():
             checked.add(link)
             placed = [(hull(h.array @ F[h.body, :3, :3].T + F[h.body, :3, 3]), h.radius) for h in hs]
             for p in world[:: max(1, len(world) // 200)]:
-                d = min(coal.distance(H, coal.Transform3s(), coal.Sphere(1e-12), coal.Transform3s(np.eye(3), p), req,
-                                      coal.DistanceResult()) - r for H, r in placed)
+                d = min(placed_distance(H, np.eye(4), point, frame_along(p, p)) - r for H, r in placed)
                 assert d <= 1e-9, link
     assert len(checked) >= 6

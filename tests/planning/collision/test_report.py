@@ -14,6 +14,7 @@ import kin
 from planning.collision import ClearanceTally, collision_world, nearest_obstacle_per_body
 from planning.validate import densify
 from studies.cli import main
+from tests.coal_ref import capsule, distance
 
 coal = pytest.importorskip("coal")
 
@@ -60,22 +61,8 @@ def _frames(q) -> list[np.ndarray]:
 
 
 def _capsule(c, F):
-    a, b = (F @ [*c.a, 1])[:3], (F @ [*c.b, 1])[:3]
-    L = float(np.linalg.norm(b - a))
-    if L == 0:
-        return coal.CollisionObject(coal.Sphere(c.radius), coal.Transform3s(np.eye(3), a))
-    z = (b - a) / L
-    x = np.cross(z, [1.0, 0, 0]) if abs(z[0]) < 0.9 else np.cross(z, [0, 1.0, 0])
-    x /= np.linalg.norm(x)
-    return coal.CollisionObject(coal.Capsule(c.radius, L), coal.Transform3s(np.column_stack([x, np.cross(z, x), z]),
-                                                                            0.5 * (a + b)))
-
-
-def _dist(a, b) -> float:
-    req, res = coal.DistanceRequest(), coal.DistanceResult()
-    req.enable_signed_distance = True
-    coal.distance(a, b, req, res)
-    return res.min_distance
+    """Capsule ``c`` placed by its body's frame ``F``, as a coal object."""
+    return capsule((F @ [*c.a, 1])[:3], (F @ [*c.b, 1])[:3], c.radius)
 
 
 def _by_coal(world, q):
@@ -88,10 +75,10 @@ def _by_coal(world, q):
     obs, slf = {}, {}
     for b, o in caps:
         for n in boxes:
-            obs[b, n] = min(obs.get((b, n), np.inf), _dist(o, boxes[n]))
+            obs[b, n] = min(obs.get((b, n), np.inf), distance(o, boxes[n]))
         for b2, o2 in caps:
             if (b, b2) in world.pairs:
-                slf[b, b2] = min(slf.get((b, b2), np.inf), _dist(o, o2))
+                slf[b, b2] = min(slf.get((b, b2), np.inf), distance(o, o2))
     return obs, slf, min((d, *k) for k, d in obs.items()), min((d, *k) for k, d in slf.items())
 
 

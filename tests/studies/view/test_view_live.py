@@ -21,6 +21,7 @@ from studies.view.playback import TrajectoryFileError, path_timeline, trajectory
 from studies.view.plot import window_runs
 from studies.view.readouts import LiveModel
 from studies.view.scene import body_poses, capsule_parts, nearest_to_ray, slider_spec
+from tests.coal_ref import capsule, distance
 
 coal = pytest.importorskip("coal")
 
@@ -64,22 +65,8 @@ def frames(q) -> list[np.ndarray]:
 
 
 def coal_capsule(c, F):
-    a, b = (F @ [*c.a, 1])[:3], (F @ [*c.b, 1])[:3]
-    L = float(np.linalg.norm(b - a))
-    if L == 0:
-        return coal.CollisionObject(coal.Sphere(c.radius), coal.Transform3s(np.eye(3), a))
-    z = (b - a) / L
-    x = np.cross(z, [1.0, 0, 0]) if abs(z[0]) < 0.9 else np.cross(z, [0, 1.0, 0])
-    x /= np.linalg.norm(x)
-    return coal.CollisionObject(coal.Capsule(c.radius, L), coal.Transform3s(np.column_stack([x, np.cross(z, x), z]),
-                                                                            0.5 * (a + b)))
-
-
-def coal_distance(a, b) -> float:
-    req, res = coal.DistanceRequest(), coal.DistanceResult()
-    req.enable_signed_distance = True
-    coal.distance(a, b, req, res)
-    return res.min_distance
+    """Capsule ``c`` placed by its body's frame ``F``, as a coal object."""
+    return capsule((F @ [*c.a, 1])[:3], (F @ [*c.b, 1])[:3], c.radius)
 
 
 @pytest.fixture(scope="module")
@@ -108,12 +95,12 @@ def test_readout_matches_numpy_fk_closed_form_sigma_and_coal(planar, q):
     caps = world.geometry.capsules
     boxes = {k: coal.CollisionObject(coal.Box(*size), coal.Transform3s(np.eye(3), np.array(c)))
              for k, (c, size) in BOXES.items()}
-    d = {(cp.body, k): coal_distance(coal_capsule(cp, F[cp.body]), b) for cp in caps for k, b in boxes.items()}
+    d = {(cp.body, k): distance(coal_capsule(cp, F[cp.body]), b) for cp in caps for k, b in boxes.items()}
     (body, name), dmin = min(d.items(), key=lambda kv: kv[1])
     assert r.obstacle is not None and r.obstacle.other == name and r.obstacle.distance == pytest.approx(dmin, abs=1e-7)
     # the self pairs the world checks, by coal
     pairs = [(a, b) for a, b in world.pairs]
-    ds = [coal_distance(coal_capsule(ca, F[ca.body]), coal_capsule(cb, F[cb.body]))
+    ds = [distance(coal_capsule(ca, F[ca.body]), coal_capsule(cb, F[cb.body]))
           for a, b in pairs for ca in caps if ca.body == a for cb in caps if cb.body == b]
     if ds:
         assert r.self_pair is not None and r.self_pair.distance == pytest.approx(min(ds), abs=1e-7)
