@@ -111,11 +111,17 @@ def _figure(f: Figure) -> str:
             f'{cap}</figure>')
 
 
-def _view3d(v: View3D, idx: int) -> str:
-    spec = v.figure.to_plotly_json()
+def figure_json(fig) -> str:
+    """A plotly figure's data, layout and frames as strict JSON to hold in a ``<script>`` element (numpy
+    values as lists and numbers; ``</`` escaped, so the data never closes the element)."""
+    spec = fig.to_plotly_json()
     payload = json.dumps({"data": spec.get("data", []), "layout": spec.get("layout", {}),
                           "frames": spec.get("frames", [])}, allow_nan=False, default=_json_default)
-    payload = payload.replace("</", "<\\/")         # never close the script element from inside the data
+    return payload.replace("</", "<\\/")
+
+
+def _view3d(v: View3D, idx: int) -> str:
+    payload = figure_json(v.figure)
     div = f"plot3d-{idx}"
     cap = f'<div class="caption">{_inline(v.caption)}</div>' if v.caption else ""
     return (f'<div id="{div}" class="plot3d" data-name="{html.escape(v.name)}"></div>{cap}'

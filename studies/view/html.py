@@ -50,6 +50,7 @@ def view_html(robot, world=None, *, q=None, path=None, times=None, cell_meshes=N
 
     from planning.collision import CollisionWorld
     from studies.report.cell_view import SHAPE_BUDGET, cell_view, robot_parts
+    from studies.report.html import figure_json
     from studies.shape.meshes import visual_meshes
 
     chain = robot.chain
@@ -62,9 +63,7 @@ def view_html(robot, world=None, *, q=None, path=None, times=None, cell_meshes=N
     fig = cell_view(world, q0, path=Q, meshes=cell_meshes, title="", closest="all", points=points, shape=shape)
     n = chain.n
     parts = [robot_parts(world.geometry, set(range(n + 1)), shape), robot_parts(world.geometry, {n + 1}, shape)]
-    spec = fig.to_plotly_json()
-    figure = json.dumps({"data": spec.get("data", []), "layout": spec.get("layout", {}),
-                         "frames": spec.get("frames", [])}, allow_nan=False, default=_default).replace("</", "<\\/")
+    figure = figure_json(fig)
     model = json.dumps(_payload(robot, world, parts, q0), allow_nan=False).replace("</", "<\\/")
     drawn = "its meshes" if shape else "its collision capsules"
     timed = "" if times is None or len(times) < 2 else f" The trajectory lasts {float(times[-1] - times[0]):.3f} s."
@@ -96,14 +95,6 @@ def write_view_html(robot, world=None, path=None, trajectory=None, reach=None, o
     text = view_html(robot, world, q=q, path=path, times=times, cell_meshes=cell_meshes, points=tuple(reach or ()),
                      title=title)
     return write_output(out, text)
-
-
-def _default(o):
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    if isinstance(o, np.generic):
-        return o.item()
-    raise TypeError(f"not JSON-serialisable: {type(o).__name__}")
 
 
 _STYLE = """
