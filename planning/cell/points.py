@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from kin.states import is_number
 from planning.cell.mesh import ply_header, read_bytes
 from planning.errors import CellError
 
@@ -64,14 +65,6 @@ def _ply(data: bytes, label: str, name: str) -> np.ndarray:
     return V.reshape(-1, 3)
 
 
-def _is_number(field: str) -> bool:
-    try:
-        float(field)
-    except ValueError:
-        return False
-    return True
-
-
 def _csv(data: bytes, label: str, name: str) -> np.ndarray:
     # count before parsing: lines, less those that start a comment or are blank (at a line's start)
     rows = (data.count(b"\n") + (not data.endswith(b"\n")) - data.count(b"\n#") - data.count(b"\n\n")
@@ -91,7 +84,7 @@ def _csv(data: bytes, label: str, name: str) -> np.ndarray:
         return np.zeros((0, 3))
     fields = lines[first].split(",")
     skip = 0
-    if not any(_is_number(f) for f in fields):          # a header row of column names
+    if not any(is_number(f) for f in fields):          # a header row of column names
         if len(fields) != 3:
             raise CellError(f"{label}: {name}: line {first + 1}: expected three columns x,y,z")
         skip = first + 1

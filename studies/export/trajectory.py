@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 import kin
+from kin.states import is_number
 
 __all__ = ["Trajectory", "TrajectoryFileError", "trajectory_csv_text", "read_trajectory", "MAX_TRAJECTORY_BYTES",
            "FORMAT_LINE"]
@@ -173,7 +174,7 @@ def read_trajectory(robot, path: str | Path, max_bytes: int = MAX_TRAJECTORY_BYT
         try:
             vals = [float(c) for c in row]
         except ValueError:
-            bad = next(c for c in row if not _is_float(c))
+            bad = next(c for c in row if not is_number(c))
             raise TrajectoryFileError(f"{path}: line {lineno}: {bad.strip()[:40]!r} is not a number") from None
         if not all(math.isfinite(v) for v in vals):
             k = next(i for i, v in enumerate(vals) if not math.isfinite(v))
@@ -207,14 +208,6 @@ def read_trajectory(robot, path: str | Path, max_bytes: int = MAX_TRAJECTORY_BYT
                                   f"number within the float range")
     tau = X[:, 1 + 3 * n:] if torques else None
     return Trajectory(t, q, qd, qdd, tau, meta.get("joints"), str(path))
-
-
-def _is_float(s: str) -> bool:
-    try:
-        float(s)
-    except ValueError:
-        return False
-    return True
 
 
 def _check_robot(path: Path, meta: dict, robot) -> None:
