@@ -96,19 +96,8 @@ def cylinder_solid(radius: float, half_length: float, pose) -> Solid:
 
 def c_distance():
     """The C search as a ctypes function (points pointer, count, pose pointer or None, radius — for A,
-    then for B) → the bound; None without a compiler (numpy then).  Looked up once per process."""
-    global _FN
-    if _FN is _UNSET:
-        _FN = _library()
-    return _FN
-
-
-_UNSET = object()
-_FN = _UNSET
-
-
-def _library():
-    """The C search (None: no compiler, or it failed — numpy then)."""
+    then for B) → the bound; None without a compiler, or when it fails to build (numpy then).  Built once
+    per compiler (``RMTKIT_CC``); callers in a loop keep the function (:class:`kin.geometry.hulls.HullRefiner`)."""
     from kin.native import build, find_compiler
     compiler = find_compiler()
     with _lock:
