@@ -5,7 +5,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed-$(shell cat pyproject.toml | cksum | cut -d' ' -f1)
 
-.PHONY: run test test-slow lint bench install clean
+.PHONY: run test test-slow lint bench install clean timor-venv
 
 $(STAMP): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -46,5 +46,12 @@ bench: $(STAMP)
 	$(BIN)/python -m studies.benchmarks.bench_reach
 	$(BIN)/python -m studies.benchmarks.bench_dynamics
 
+# timor-python (TUM) for tests/kin/modules/test_timor.py, in a venv of its own: it pins pinocchio < 3 and
+# numpy 1.x, which .venv (pinocchio 4, numpy 2) cannot hold.  The test finds .venv-timor (or the interpreter
+# named by RMT_TIMOR_PYTHON) and is skipped without it.
+timor-venv:
+	@test -x .venv-timor/bin/python || $(PYTHON) -m venv .venv-timor
+	.venv-timor/bin/python -m pip install --quiet --disable-pip-version-check "timor-python==1.1.1"
+
 clean:
-	rm -rf $(VENV) out build *.egg-info
+	rm -rf $(VENV) .venv-timor out build *.egg-info
