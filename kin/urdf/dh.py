@@ -127,6 +127,18 @@ def dh_frames(points: np.ndarray, dirs: np.ndarray, tip: np.ndarray) -> list[np.
     return frames
 
 
+def dh_rows(points: np.ndarray, dirs: np.ndarray, tip: np.ndarray, path: str = ""):
+    """The standard DH frames 0…n (:func:`dh_frames`) of axes ``points``/``dirs`` (n, 3) and ``tip`` (4, 4),
+    and the DH rows (a, α, d, θ offset) between them (angles within 1e-14 rad of k·π/2 snapped to it);
+    :class:`UrdfError` (naming ``path``) if two frames are not related by a DH transform."""
+    frames = dh_frames(points, dirs, tip)
+    rows = []
+    for i, (Fa, Fb) in enumerate(zip(frames[:-1], frames[1:]), 1):
+        a, alpha, d, theta = _dh_of(np.linalg.solve(Fa, Fb), i, path)
+        rows.append((a, _snap(alpha), d, _snap(theta)))
+    return frames, rows
+
+
 def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str | None = None,
                       collision: bool = True, max_capsules: int = 3, package_dirs=None, search: str = "fast",
                       progress=None, srdf=None, visual: bool = True, hulls: float | None = None) -> Chain:
@@ -147,12 +159,10 @@ def chain_from_serial(sc: SerialChain, convention: str = "standard", name: str |
         raise UrdfError(f"convention {convention!r} unknown; allowed: standard, modified", sc.path)
     points, dirs = sc.axes_at_zero()
     tip = sc.fk(np.zeros(sc.n))
-    frames = dh_frames(points, dirs, tip)
-    joints = []
-    for i, (uj, Fa, Fb) in enumerate(zip(sc.joints, frames[:-1], frames[1:]), 1):
-        a, alpha, d, theta = _dh_of(np.linalg.solve(Fa, Fb), i, sc.path)
-        joints.append(Joint(uj.type, a=a, alpha=_snap(alpha), d=d, theta=_snap(theta), limits=uj.limits, name=uj.name,
-                            max_velocity=uj.max_velocity, max_torque=uj.max_torque))
+    frames, rows = dh_rows(points, dirs, tip, sc.path)
+    joints = [Joint(uj.type, a=a, alpha=alpha, d=d, theta=theta, limits=uj.limits, name=uj.name,
+                    max_velocity=uj.max_velocity, max_torque=uj.max_torque)
+              for uj, (a, alpha, d, theta) in zip(sc.joints, rows)]
     base, tool = frames[0], np.linalg.solve(frames[-1], tip)
     if name is None:
         name = re.sub(r"[^a-z0-9]+", "_", sc.robot_name.lower()).strip("_") or "imported"
