@@ -54,32 +54,37 @@ DEFAULT_VENV = ROOT / ".venv-timor"
 
 
 # ---- rmtkit's side: find the interpreter, run this file in it ----------------------------------------
-def timor_python() -> tuple[str | None, str]:
-    """(interpreter, "") when an interpreter that imports timor is found, else (None, why not).
+#: the exit code of :func:`main` when timor (or its pinocchio, cobra-io) cannot be imported
+NO_TIMOR = 3
 
-    ``RMT_TIMOR_PYTHON`` names it; otherwise ``.venv-timor/bin/python`` when it exists."""
+
+class TimorUnavailableError(RuntimeError):
+    """The interpreter cannot import timor: the comparison is skipped, not failed."""
+
+
+def timor_python() -> tuple[str | None, str]:
+    """(interpreter, "") for ``RMT_TIMOR_PYTHON`` or else ``.venv-timor/bin/python``, or (None, why not).
+    Whether it imports timor shows when :func:`timor_reference` runs (:class:`TimorUnavailableError`)."""
     exe = os.environ.get("RMT_TIMOR_PYTHON") or ""
-    if not exe:
-        cand = DEFAULT_VENV / "bin" / "python"
-        if not cand.exists():
-            return None, "no timor-python: set RMT_TIMOR_PYTHON or run `make timor-venv`"
-        exe = str(cand)
-    try:
-        out = subprocess.run([exe, __file__, "--version"], capture_output=True, text=True, timeout=120)
-    except (OSError, subprocess.TimeoutExpired) as e:
-        return None, f"RMT_TIMOR_PYTHON={exe}: {e}"
-    if out.returncode != 0:
-        last = (out.stderr.strip().splitlines() or ["?"])[-1]
-        return None, f"{exe} cannot import timor: {last}"
-    return exe, ""
+    if exe:
+        return exe, ""
+    cand = DEFAULT_VENV / "bin" / "python"
+    if cand.exists():
+        return str(cand), ""
+    return None, "no timor-python: run `make timor-venv` or set RMT_TIMOR_PYTHON to an interpreter that has it"
 
 
 def timor_reference(exe: str, modules: list[dict], states: list[dict], gravity=(0.0, 0.0, -9.81)) -> dict:
     """timor's answer for the robot ``modules`` at each state {"q", "dq", "ddq"}: {"versions": {...},
-    "results": [{"tcp": 4×4, "joints": [4×4 joint frames in the world], "tau": [n]}]}."""
+    "dof": n, "results": [{"tcp": 4×4, "joints": [4×4 joint frames in the world], "tau": [n]}]}."""
     request = {"modules": modules, "states": states, "gravity": list(gravity)}
-    out = subprocess.run([exe, __file__], input=json.dumps(request), capture_output=True, text=True,
-                         timeout=600)
+    try:
+        out = subprocess.run([exe, __file__], input=json.dumps(request), capture_output=True, text=True,
+                             timeout=600)
+    except OSError as e:
+        raise TimorUnavailableError(f"{exe}: {e}") from None
+    if out.returncode == NO_TIMOR:
+        raise TimorUnavailableError(f"{exe} cannot import timor: {out.stderr.strip().splitlines()[-1]}")
     if out.returncode != 0:
         raise RuntimeError(f"timor reference failed:\n{out.stderr[-4000:]}")
     return json.loads(out.stdout)
@@ -184,14 +189,14 @@ def build(modules: list[dict], gravity):
 
 def main() -> None:
     with tempfile.TemporaryDirectory(prefix="rmt-timor-") as home:
-        _offline(Path(home))
-        import numpy as np
-        import pinocchio as pin
-        import timor
-
-        if sys.argv[1:] == ["--version"]:
-            print(json.dumps({"timor": timor.__version__, "pinocchio": pin.__version__, "numpy": np.__version__}))
-            return
+        try:
+            _offline(Path(home))
+            import numpy as np
+            import pinocchio as pin
+            import timor
+        except ImportError as e:
+            print(f"ImportError: {e}", file=sys.stderr)
+            sys.exit(NO_TIMOR)
         req = json.load(sys.stdin)
         robot = build(req["modules"], req["gravity"])
         results = []
