@@ -5,7 +5,8 @@ For joint j two numbers bracket the largest |g_j(q)| over the limits:
 
 * a **bound** that no configuration exceeds.  A revolute joint's gravity torque is
   Σ_{k ≥ j} m_k (c_k − o) × g · z_j for any point o on its axis, so |g_j| ≤ |g| Σ m_k ‖c_k − o_{j−1}‖,
-  and ‖c_k − o_{j−1}‖ is at most the sum of the distances between the DH frame origins j−1 … k
+  and only the part of c_k − o_{j−1} across the axis counts: at most |a_j| (DH row j moves d_j
+  along the axis, then a_j across it) plus the distances between the DH frame origins j … k
   (√(a_i² + d_i²), the largest over a prismatic joint's travel) plus ‖c_k‖ in frame k (the payload's
   through the tool transform).  A prismatic joint carries at most |g| Σ_{k ≥ j} m_k.  Where the axis
   keeps its direction z_j in every configuration (every revolute joint before it turns about a
@@ -88,6 +89,7 @@ def gravity_bound(chain: Chain) -> np.ndarray:
     g = float(np.linalg.norm(chain.gravity))
     m, r = _masses(chain)
     step = np.zeros(n)           # the largest distance between DH frame origins i−1 and i
+    across = np.abs(np.array([row[0] for row in chain.dh_table()], float))   # |a_i|: its part across axis i
     for i, (j, (a, _alpha, d, _theta)) in enumerate(zip(chain.joints, chain.dh_table())):
         if chain.convention != "standard":
             raise ValueError("gravity_bound takes a standard-DH chain")
@@ -113,7 +115,7 @@ def gravity_bound(chain: Chain) -> np.ndarray:
             continue
         total = 0.0
         for k in range(j, n + 1):              # body k + 1 (0-based k: joint k's body; k = n: the payload)
-            reach = float(step[j:min(k, n - 1) + 1].sum()) + r[k]
+            reach = across[j] + float(step[j + 1:min(k, n - 1) + 1].sum()) + r[k]
             total += m[k] * reach
         out[j] = g * total * (float(np.linalg.norm(np.cross(gu, zs[j]))) if fixed else 1.0)
     return out
