@@ -12,7 +12,7 @@ Every fenced block of those pages is checked by its language:
   must name a module that exists and ``$ make TARGET`` lines a target of the Makefile; they are not
   run (benchmarks take minutes);
 * ``toml``: the block is a file of a documented kind, read by rmtkit's own reader for that kind
-  (robot file, study file, design task, sweep file, tool path, keep-out boxes, work cell);
+  (robot file, module catalogue, study file, design task, sweep file, tool path, keep-out boxes, work cell);
 * ``text`` and unlabelled blocks are printed output or a listing: not run.
 
 Any other language fails, so that no new block goes unchecked.
@@ -161,6 +161,9 @@ def _read_toml_example(text: str, tmp_path: Path):
     import kin
     if "[[joints]]" in text:
         return kin.loads_robot(text, "<robot file example>")
+    if "[[modules]]" in text:
+        from kin.modules import loads_catalogue
+        return loads_catalogue(text, "<module catalogue example>")
     if "[[configurations]]" in text:
         from studies.study.kinematics import load_study
         path = tmp_path / "study.toml"
@@ -190,8 +193,8 @@ def _read_toml_example(text: str, tmp_path: Path):
         path = tmp_path / "cycle.toml"
         path.write_text(text)
         return read_cycle_file(kin.load_robot("ur5e"), path)
-    raise AssertionError("a TOML example of no known kind (robot, study, task, sweep, tool path, keep-out, cell, "
-                         "cycle)")
+    raise AssertionError("a TOML example of no known kind (robot, module catalogue, study, task, sweep, tool path, "
+                         "keep-out, cell, cycle)")
 
 
 @pytest.mark.parametrize("page, text, line", TOML, ids=[_id(p, ln) for p, _, ln in TOML])
