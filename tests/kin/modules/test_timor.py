@@ -23,14 +23,14 @@ from kin.modules import Assembly, assemble, loads_catalogue, module_frames
 from tests.dh_numpy import frames_numpy
 from tests.kin.modules.timor_ref import TimorUnavailableError, timor_python, timor_reference
 
-# A catalogue in mm and degrees with what makes a mapping go wrong if it is wrong: a tilted base (gravity
+# A catalogue in m and degrees with what makes a mapping go wrong if it is wrong: a tilted base (gravity
 # is not along frame 0's z), joint axes off their faces' z (an elbow module), a prismatic module, a link
 # with offset and bend, twists other than 0, parts with off-centre coms and products of inertia on both
-# sides of every joint, a tool with a mass (rmtkit's payload).  Inertias are kg·mm² about the com.
+# sides of every joint, a tool with a mass (rmtkit's payload).  Inertias are kg·m² about the com.
 CATALOGUE = """
 name = "timor_check"
 source = "made-up modules for the timor-python comparison test"
-length_unit = "mm"
+length_unit = "m"
 angle_unit = "deg"
 
 [connectors.F63]
@@ -43,10 +43,10 @@ name = "wall"
 kind = "base"
 cost = 100
 output = "F63"
-out = { xyz = [120, -40, 650], rpy = [15, -10, 30] }
+out = { xyz = [0.12, -0.04, 0.65], rpy = [15, -10, 30] }
 [modules.inertial]
 mass = 6.0
-com = [0, 0, 300]
+com = [0, 0, 0.3]
 
 [[modules]]
 name = "R63"
@@ -55,19 +55,19 @@ cost = 2000
 input = "F63"
 output = "F63"
 type = "revolute"
-axis = { xyz = [0, 0, 55], rpy = [0, 0, 0] }
-out = { xyz = [0, 12, 48], rpy = [4, 0, 0] }
+axis = { xyz = [0, 0, 0.055], rpy = [0, 0, 0] }
+out = { xyz = [0, 0.012, 0.048], rpy = [4, 0, 0] }
 limits = [-170, 170]
 max_velocity = 180
 max_torque = 5000
 [modules.inertial]
 mass = 1.6
-com = [3, -2, 30]
-inertia = [2100, 2300, 1200, 40, -25, 60]
+com = [0.003, -0.002, 0.03]
+inertia = [0.0021, 0.0023, 0.0012, 0.00004, -0.000025, 0.00006]
 [modules.distal_inertial]
 mass = 0.9
-com = [0, 8, 20]
-inertia = [900, 1100, 600, -30, 15, 20]
+com = [0, 0.008, 0.02]
+inertia = [0.0009, 0.0011, 0.0006, -0.00003, 0.000015, 0.00002]
 
 [[modules]]
 name = "E63"
@@ -76,19 +76,19 @@ cost = 2400
 input = "F63"
 output = "F63"
 type = "revolute"
-axis = { xyz = [0, 0, 70], rpy = [90, 0, 0] }
-out = { xyz = [0, 65, 0], rpy = [-90, 0, 0] }
+axis = { xyz = [0, 0, 0.07], rpy = [90, 0, 0] }
+out = { xyz = [0, 0.065, 0], rpy = [-90, 0, 0] }
 limits = [-120, 120]
 max_velocity = 150
 max_torque = 5000
 [modules.inertial]
 mass = 2.1
-com = [0, 0, 45]
-inertia = [3000, 2800, 1500, 0, 80, -40]
+com = [0, 0, 0.045]
+inertia = [0.003, 0.0028, 0.0015, 0, 0.00008, -0.00004]
 [modules.distal_inertial]
 mass = 1.1
-com = [5, 30, 0]
-inertia = [1400, 900, 1300, 50, 0, 35]
+com = [0.005, 0.03, 0]
+inertia = [0.0014, 0.0009, 0.0013, 0.00005, 0, 0.000035]
 
 [[modules]]
 name = "P63"
@@ -97,19 +97,19 @@ cost = 3000
 input = "F63"
 output = "F63"
 type = "prismatic"
-axis = { xyz = [10, 0, 60], rpy = [0, 0, 20] }
-out = { xyz = [0, 0, 35], rpy = [0, 0, -20] }
-limits = [0, 250]
-max_velocity = 500
+axis = { xyz = [0.01, 0, 0.06], rpy = [0, 0, 20] }
+out = { xyz = [0, 0, 0.035], rpy = [0, 0, -20] }
+limits = [0, 0.25]
+max_velocity = 0.5
 max_torque = 20000
 [modules.inertial]
 mass = 3.0
-com = [0, 0, 80]
-inertia = [9000, 9500, 2500, 100, -60, 30]
+com = [0, 0, 0.08]
+inertia = [0.009, 0.0095, 0.0025, 0.0001, -0.00006, 0.00003]
 [modules.distal_inertial]
 mass = 1.4
-com = [0, -4, 120]
-inertia = [7000, 7100, 800, 20, 10, -50]
+com = [0, -0.004, 0.12]
+inertia = [0.007, 0.0071, 0.0008, 0.00002, 0.00001, -0.00005]
 
 [[modules]]
 name = "L300"
@@ -117,24 +117,24 @@ kind = "link"
 cost = 400
 input = "F63"
 output = "F63"
-length = 300
-offset = 40
+length = 0.3
+offset = 0.04
 bend = 30
 [modules.inertial]
 mass = 1.8
-com = [20, 3, 150]
-inertia = [14000, 14500, 900, 60, 400, -20]
+com = [0.02, 0.003, 0.15]
+inertia = [0.014, 0.0145, 0.0009, 0.00006, 0.0004, -0.00002]
 
 [[modules]]
 name = "gripper"
 kind = "tool"
 cost = 900
 input = "F63_tool"
-out = { xyz = [0, 15, 140], rpy = [0, 0, 45] }
+out = { xyz = [0, 0.015, 0.14], rpy = [0, 0, 45] }
 [modules.inertial]
 mass = 1.2
-com = [0, 6, 60]
-inertia = [1800, 1700, 700, 10, 0, 25]
+com = [0, 0.006, 0.06]
+inertia = [0.0018, 0.0017, 0.0007, 0.00001, 0, 0.000025]
 """
 
 ASSEMBLY = ["wall", "R63", "L300@90", "E63@180", "P63@270", "L300", "R63@90", "gripper@180"]
