@@ -13,7 +13,8 @@ module's output frame is given in its input frame (``out``, or ``length`` along 
 along x and a ``bend`` about the output's y); a base's output frame in the world; a tool's TCP in
 its input frame.  A module's *proximal part* (mass model and capsules) is fixed to its input frame
 (a base's to the world); a joint module's *distal part* moves with its output.  Masses are kg,
-inertias kg·m² about the centre of mass, torques N·m (N for a prismatic joint), costs plain numbers
+inertias kg·(length unit)² about the centre of mass (as in robot files), torques N·m (N for a
+prismatic joint), costs plain numbers
 in ``currency``; everything else in the file's ``length_unit`` and ``angle_unit``.  The library
 holds everything SI (m, rad).  The format: docs/modules.md.
 """
