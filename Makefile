@@ -24,6 +24,7 @@ test: $(STAMP)
 	@$(BIN)/python -m pytest -q -m "not slow" -n auto --maxprocesses 4 --dist loadfile; rc=$$?; echo $$rc > $(VENV)/.pytest-exit; exit $$rc
 
 test-slow: $(STAMP)
+	@$(MAKE) --no-print-directory timor-venv || echo "timor-python did not install: tests/kin/modules/test_timor.py is skipped"
 	@$(BIN)/python -m pytest -q -m slow; rc=$$?; echo $$rc > $(VENV)/.pytest-exit; exit $$rc
 
 lint: $(STAMP)
@@ -48,7 +49,7 @@ bench: $(STAMP)
 
 # timor-python (TUM) for tests/kin/modules/test_timor.py, in a venv of its own: it pins pinocchio < 3 and
 # numpy 1.x, which .venv (pinocchio 4, numpy 2) cannot hold.  The test finds .venv-timor (or the interpreter
-# named by RMT_TIMOR_PYTHON) and is skipped without it.
+# named by RMT_TIMOR_PYTHON) and is skipped without it; `make test-slow` (so CI) makes it first.
 timor-venv:
 	@test -x .venv-timor/bin/python || $(PYTHON) -m venv .venv-timor
 	.venv-timor/bin/python -m pip install --quiet --disable-pip-version-check "timor-python==1.1.1"

@@ -15,6 +15,7 @@ SLOW_FILES = (
     "tests/design/sweep/test_cluster.py",
     "tests/design/sweep/test_refine.py",
     "tests/design/sweep/test_run.py",
+    "tests/kin/modules/test_timor.py",        # needs .venv-timor, which `make test-slow` makes
 )
 
 #: single tests (node id prefixes) of several seconds each
