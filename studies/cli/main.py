@@ -19,6 +19,7 @@ from typing import Sequence
 
 import kin
 from studies.cli import (
+    assemble,
     cell,
     design,
     export,
@@ -42,7 +43,7 @@ from studies.cli.tcp import TCP_COMMANDS, robot_loader, tcp_args
 
 #: the command groups, in the order ``rmt --help`` lists their commands
 GROUPS = (kinematics, ik, singular, plan, timing, export, cell, scene, toolpath, follow, study, design, reach, place,
-          sweep, urdf, view)
+          sweep, urdf, assemble, view)
 
 
 class UsageError(Exception):
