@@ -5,13 +5,14 @@ For joint j two numbers bracket the largest |g_j(q)| over the limits:
 
 * a **bound** that no configuration exceeds.  A revolute joint's gravity torque is
   Σ_{k ≥ j} m_k (c_k − o) × g · z_j for any point o on its axis, so |g_j| ≤ |g| Σ m_k ‖c_k − o_{j−1}‖,
-  and only the part of c_k − o_{j−1} across the axis counts: at most |a_j| (DH row j moves d_j
-  along the axis, then a_j across it) plus the distances between the DH frame origins j … k
-  (√(a_i² + d_i²), the largest over a prismatic joint's travel) plus ‖c_k‖ in frame k (the payload's
-  through the tool transform).  A prismatic joint carries at most |g| Σ_{k ≥ j} m_k.  Where the axis
-  keeps its direction z_j in every configuration (every revolute joint before it turns about a
-  parallel axis: joint 1 always), only gravity across it counts — the bound is multiplied by
-  |ĝ × z_j| (|ĝ · z_j| for a prismatic joint): 0 for a vertical first axis;
+  and only the part of c_k − o_{j−1} across the axis counts: at most the DH rows' moves j … k across
+  it plus ‖c_k‖ in frame k (the payload's through the tool transform).  A row moves d_i along z_i,
+  then a_i across it: while z_i stays parallel to z_j in every configuration (every revolute joint
+  from j to i turns about a parallel axis; row j always) only |a_i| counts, else the whole move
+  √(a_i² + d_i²) (the largest over a prismatic joint's travel).  A prismatic joint carries at most
+  |g| Σ_{k ≥ j} m_k.  Where the axis keeps its direction z_j in every configuration (every revolute
+  joint before it turns about a parallel axis: joint 1 always), only gravity across it counts — the
+  bound is multiplied by |ĝ × z_j| (|ĝ · z_j| for a prismatic joint): 0 for a vertical first axis;
 * a **witness**: the largest |g_j| found at configurations within the limits — a Halton sample
   (scipy.stats.qmc, unscrambled: no seed) refined by bounded local maximisation from its best points.
 
@@ -89,7 +90,7 @@ def gravity_bound(chain: Chain) -> np.ndarray:
     g = float(np.linalg.norm(chain.gravity))
     m, r = _masses(chain)
     step = np.zeros(n)           # the largest distance between DH frame origins i−1 and i
-    across = np.abs(np.array([row[0] for row in chain.dh_table()], float))   # |a_i|: its part across axis i
+    across = np.abs(np.array([row[0] for row in chain.dh_table()], float))   # |a_i|: the row's move across z_i
     for i, (j, (a, _alpha, d, _theta)) in enumerate(zip(chain.joints, chain.dh_table())):
         if chain.convention != "standard":
             raise ValueError("gravity_bound takes a standard-DH chain")
@@ -113,9 +114,18 @@ def gravity_bound(chain: Chain) -> np.ndarray:
         if not chain.joints[j].is_revolute:
             out[j] = g * float(m[j:].sum()) * (abs(float(gu @ zs[j])) if fixed else 1.0)
             continue
+        # each DH row's largest move across axis j: only |a_i| while z_i stays parallel to z_j (every
+        # revolute joint from j to i turns about a parallel axis), else the whole move
+        part = step.copy()
+        steady = True
+        for i in range(j, n):
+            if steady and np.linalg.norm(np.cross(zs[i], zs[j])) < 1e-12:
+                part[i] = across[i]
+            elif chain.joints[i].is_revolute:
+                steady = False
         total = 0.0
         for k in range(j, n + 1):              # body k + 1 (0-based k: joint k's body; k = n: the payload)
-            reach = across[j] + float(step[j + 1:min(k, n - 1) + 1].sum()) + r[k]
+            reach = float(part[j:min(k, n - 1) + 1].sum()) + r[k]
             total += m[k] * reach
         out[j] = g * total * (float(np.linalg.norm(np.cross(gu, zs[j]))) if fixed else 1.0)
     return out
