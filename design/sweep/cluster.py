@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 from typing import Callable, Iterator
 
-from design.sweep.evaluate import Outcome, SweepJob, evaluate_chunk
+from design.sweep.evaluate import Outcome, SweepJob
 from design.sweep.file import SweepError
 from design.sweep.local import lost_chunk
 from design.sweep.space import Design
@@ -24,7 +24,7 @@ __all__ = ["DaskExecutor"]
 def _dask_chunk(job: SweepJob, chunk: list[Design], threads: int) -> list[Outcome]:
     for k in ("RMTKIT_THREADS", "OMP_NUM_THREADS"):
         os.environ[k] = str(threads)
-    return evaluate_chunk(job, chunk)
+    return job.run_chunk(chunk)
 
 
 class DaskExecutor:

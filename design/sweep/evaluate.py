@@ -45,6 +45,11 @@ class SweepJob:
     metrics: tuple[str, ...]
     evaluate: Callable[["SweepJob", kin.Robot, Design], dict] | None = None
 
+    def run_chunk(self, designs: list[Design]) -> list[Outcome]:
+        """What a worker does with a chunk (the executors call this; other jobs, such as the
+        composition's verdicts, bring their own)."""
+        return evaluate_chunk(self, designs)
+
 
 @dataclass
 class Outcome:

@@ -18,7 +18,7 @@ from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 from typing import Callable, Iterator
 
-from design.sweep.evaluate import Outcome, SweepJob, evaluate_chunk
+from design.sweep.evaluate import Outcome, SweepJob
 from design.sweep.space import Design
 from kin.errors import ArgumentError
 
@@ -59,7 +59,7 @@ def _init(job: SweepJob, threads: int) -> None:
 
 
 def _run(chunk: list[Design]) -> list[Outcome]:
-    return evaluate_chunk(_JOB, chunk)
+    return _JOB.run_chunk(chunk)
 
 
 class LocalExecutor:

@@ -77,24 +77,27 @@ def read_rows(con: sqlite3.Connection) -> list[dict]:
     return out
 
 
-def check_existing(path: Path) -> bool:
+def check_existing(path: Path, application_id: int = APPLICATION_ID, schema_version: int = SCHEMA_VERSION,
+                   what: str = "sweep database", option: str = "--db") -> bool:
     """Refuse, without writing, a file that is not an rmtkit sweep database of this schema; returns
-    False for an SQLite database without any table (a run killed while creating it), else True."""
+    False for an SQLite database without any table (a run killed while creating it), else True.
+    Other rmtkit databases (the composition's verdict cache) pass their own ``application_id``,
+    ``schema_version``, name (``what``) and command-line ``option``."""
     st = os.stat(path)
     if not stat.S_ISREG(st.st_mode):
-        raise StoreError(f"{path}: not a regular file; refusing to use it as a sweep database")
+        raise StoreError(f"{path}: not a regular file; refusing to use it as a {what}")
     with open(path, "rb") as fh:
         head = fh.read(100)
     if head[:16] != _HEADER:
-        what = "an empty file" if not head else "not an SQLite database"
-        raise StoreError(f"{path}: {what}; refusing to use or overwrite it (choose another --db)")
+        kind = "an empty file" if not head else "not an SQLite database"
+        raise StoreError(f"{path}: {kind}; refusing to use or overwrite it (choose another {option})")
     try:
         con = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
         try:
             app = con.execute("PRAGMA application_id").fetchone()[0]
             if app == 0 and con.execute("SELECT COUNT(*) FROM sqlite_master").fetchone()[0] == 0:
                 return False       # an empty database: a run killed while creating it (nothing to lose)
-            if app != APPLICATION_ID:
+            if app != application_id:
                 raise StoreError(f"{path}: an SQLite database of another application (application_id {app}); "
                                  "refusing to use or overwrite it")
             check = con.execute("PRAGMA quick_check").fetchone()[0]
@@ -104,10 +107,10 @@ def check_existing(path: Path) -> bool:
         finally:
             con.close()
     except sqlite3.DatabaseError as e:
-        raise StoreError(f"{path}: unreadable sweep database ({e}); refusing to use or overwrite it") from None
-    if ver is None or ver[0] != SCHEMA_VERSION:
-        raise StoreError(f"{path}: sweep database schema {ver[0] if ver else 'missing'}; this rmtkit reads "
-                         f"schema {SCHEMA_VERSION}")
+        raise StoreError(f"{path}: unreadable {what} ({e}); refusing to use or overwrite it") from None
+    if ver is None or ver[0] != schema_version:
+        raise StoreError(f"{path}: {what} schema {ver[0] if ver else 'missing'}; this rmtkit reads "
+                         f"schema {schema_version}")
     return True
 
 
