@@ -18,7 +18,8 @@ minimum-time timing and the motor torques along it (:func:`evaluate_cycle`, :cla
    the per-joint speed and acceleration limits, and with ``torque = "limit"`` under the motor torque
    limits too (the timing's ``robot``/``tau_max``); the cycle time is the sum plus ``dwell`` per stop.
 5. **Torques.**  τ(t) = inverse dynamics (:meth:`kin.Robot.inverse_dynamics`) of the chain carrying the
-   design's link mass model (:mod:`design.cycle.masses`), on ``PER_INTERVAL`` + 1 times in every
+   design's link mass model (:mod:`design.cycle.masses`; the robot's own inertial data when the spec
+   has none), on ``PER_INTERVAL`` + 1 times in every
    interval of each segment's trajectory (both ends: q̈ jumps between intervals), from its exact s(t).
    The peak |τ_j| over the cycle, and its ratio to tau_max_j, are the metrics.
 
@@ -31,7 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 import kin
-from design.cycle.masses import chain_with_masses
+from design.cycle.masses import chain_own_masses, chain_with_masses
 from design.cycle.model import CycleSpec
 from design.task.model import Targets, TaskError
 from planning.timing import time_parameterize
@@ -238,13 +239,15 @@ def evaluate_cycle(robot: kin.Robot, spec: CycleSpec, targets: Targets, params=N
     pick = choose_branches(stops, ups, spec.v_max, spec.a_max)
     q = np.array([stops[i][k] for i, k in enumerate(pick)])
     up = None if ups is None else np.array([ups[i][k] for i, k in enumerate(pick)])
-    dyn_chain = chain_with_masses(chain, params, spec.masses)
+    dyn_chain = (chain_with_masses(chain, params, spec.masses) if spec.masses is not None
+                 else chain_own_masses(chain, params))
     # every design has its own masses (numbers in the Newton–Euler graph, not parameters), so a compiled
     # kernel would be built — and cached on disk — per design for a few thousand evaluations: the VM
     dyn = kin.Robot(dyn_chain, backend="vm")
     trajs = [_timed(path, spec, dyn) for path in cycle_paths(q, up)]
     peaks = np.max([peak_torques(dyn, tr) for tr in trajs], axis=0)
     seg = np.array([tr.duration for tr in trajs])
-    mass = float(sum(j.inertia.mass for j in dyn_chain.joints) + dyn_chain.payload.mass)
+    mass = float(sum(j.inertia.mass for j in dyn_chain.joints if j.inertia is not None)
+                 + (dyn_chain.payload.mass if dyn_chain.payload is not None else 0.0))
     return CycleResult(True, float(seg.sum() + m * spec.dwell), seg, peaks, spec.tau_max, q, up, spec.torque,
                        names, rev, mass, (), trajs)

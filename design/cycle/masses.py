@@ -34,7 +34,7 @@ import kin
 from design.task.model import TaskError
 from kin.dynamics import LinkInertia
 
-__all__ = ["LinkMasses", "chain_with_masses", "rod", "MAX_MASS_PER_LENGTH", "MAX_PART_MASS"]
+__all__ = ["LinkMasses", "chain_with_masses", "chain_own_masses", "rod", "MAX_MASS_PER_LENGTH", "MAX_PART_MASS"]
 
 #: the largest tube mass per metre accepted (kg/m): a solid steel bar of 0.4 m diameter
 MAX_MASS_PER_LENGTH = 1000.0
@@ -137,3 +137,12 @@ def chain_with_masses(chain: kin.Chain, params, masses: LinkMasses) -> kin.Chain
     bodies, pay = masses.bodies(fz)
     joints = tuple(replace(j, inertia=b) for j, b in zip(fz.joints, bodies))
     return replace(fz, joints=joints, payload=pay)
+
+
+def chain_own_masses(chain: kin.Chain, params=None) -> kin.Chain:
+    """The chain at design ``params`` (as :func:`chain_with_masses`) keeping its own inertial data —
+    an assembly of catalogue modules (:func:`kin.modules.assemble`) carries the modules' masses; a
+    body without inertial data is massless."""
+    p = chain.parameter_vector(params) if chain.parameters else None
+    fz = chain.frozen(p)
+    return fz if fz.convention == "standard" else fz.to_standard()

@@ -44,15 +44,17 @@ class CycleSpec:
     corners blended (``blend``: the joint-space blend half-length of :func:`planning.timing.blend_path`,
     rad or m).  ``v_max``, ``a_max`` (n,): per-joint speed and acceleration limits (rad/s, rad/s²; m/s,
     m/s²); ``tau_max`` (n,): motor torque limits (N·m; N), NaN where unknown; ``torque``: one of
-    :data:`TORQUE_MODES`; ``masses``: the link mass model; ``ik_starts``: IK starts per stop (the
-    branches found among them are all candidates, :mod:`design.cycle.evaluate`).
+    :data:`TORQUE_MODES`; ``masses``: the link mass model (None: the robot's own inertial data, as an
+    assembly of catalogue modules carries it — :func:`design.cycle.masses.chain_own_masses`);
+    ``ik_starts``: IK starts per stop (the branches found among them are all candidates,
+    :mod:`design.cycle.evaluate`).
     """
 
     sequence: tuple[int, ...]
     v_max: np.ndarray
     a_max: np.ndarray
     tau_max: np.ndarray
-    masses: LinkMasses
+    masses: LinkMasses | None
     torque: str = "check"
     lift: float = 0.0
     dwell: float = 0.0
@@ -60,7 +62,7 @@ class CycleSpec:
     ik_starts: int = 8
 
     def __post_init__(self):
-        n = self.masses.n
+        n = self.masses.n if self.masses is not None else int(np.size(self.v_max))
         seq = tuple(self.sequence)
         if not (2 <= len(seq) <= MAX_STOPS) or not all(isinstance(i, (int, np.integer)) and not isinstance(i, bool)
                                                         and i >= 0 for i in seq):
@@ -83,7 +85,7 @@ class CycleSpec:
 
     @property
     def n(self) -> int:
-        return self.masses.n
+        return self.masses.n if self.masses is not None else int(np.size(self.v_max))
 
     def check_targets(self, count: int) -> None:
         """Every index of the sequence names one of ``count`` targets."""

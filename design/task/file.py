@@ -18,7 +18,8 @@ from kin.chain import ANGLE_UNITS, LENGTH_UNITS
 from kin.robotfile import _tname
 from kin.transforms import rpy_to_matrix
 
-__all__ = ["load_task", "loads_task", "placement_region", "SHAPES", "PLACEMENT_KEYS", "MAX_PLACEMENT"]
+__all__ = ["load_task", "loads_task", "placement_region", "SHAPES", "PLACEMENT_KEYS", "MAX_PLACEMENT", "TaskReader",
+           "read_targets", "read_dexterity"]
 
 SHAPES = ("points", "box", "ring", "sphere", "toolpath")
 _TOP = ("name", "title", "robot", "length_unit", "angle_unit", "seed", "objective", "target", "dexterity", "cell",
@@ -318,3 +319,9 @@ def _architectures(r: _Reader, raw: Any, n: int) -> tuple[str, ...]:
             raise r.fail(f"architecture[{i}]", f"{s!r} must be {n} letters R or P (the robot has {n} joints)")
         out.append(s)
     return tuple(dict.fromkeys(out))
+
+
+# the readers a part file shares with task files (design.compose.parts: a part is a task without a robot)
+TaskReader = _Reader
+read_targets = _targets
+read_dexterity = _dexterity
