@@ -9,10 +9,10 @@ from design.compose.bounds import PartGeometry, dof_bound, holding_bound, module
 from design.compose.parts import Part, PartCycle, load_part, loads_part
 from design.compose.result import ComposeResult, Found, Verification
 from design.compose.search import cheapest, compose, serial_judge
-from design.compose.space import ComposeSpace, Partial, Pruned, axisymmetric
+from design.compose.space import ComposeSpace, Partial, Pruned, axisymmetric, full_turn_coaxial
 from design.compose.verdict import STAGES, ComposeSettings, Verdict, assembled, judge, verify
 
 __all__ = ["Part", "PartCycle", "load_part", "loads_part", "ComposeSpace", "Partial", "Pruned", "axisymmetric",
-           "PartGeometry", "sketch", "module_extent", "dof_bound", "reach_bound", "holding_bound", "ComposeSettings",
-           "Verdict", "STAGES", "judge", "assembled", "verify", "ComposeResult", "Found", "Verification", "compose",
-           "cheapest", "serial_judge"]
+           "full_turn_coaxial", "PartGeometry", "sketch", "module_extent", "dof_bound", "reach_bound", "holding_bound",
+           "ComposeSettings", "Verdict", "STAGES", "judge", "assembled", "verify", "ComposeResult", "Found",
+           "Verification", "compose", "cheapest", "serial_judge"]

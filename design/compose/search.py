@@ -52,6 +52,10 @@ def _check(catalogue: Catalogue, parts: Sequence, space: ComposeSpace) -> list:
         raise TaskError(f"two parts are named {dup!r}; every part needs its own name")
     if space.catalogue is not catalogue:
         raise TaskError("the space was built on another catalogue")
+    if space.cycle_free and any(p.cycle is not None for p in parts):
+        bad = next(p.name for p in parts if p.cycle is not None)
+        raise TaskError(f"part {bad!r} has a motion cycle: a joint's twist shifts its travel in joint space, so the "
+                        "space may not merge full-turn joints' twists (build it without cycle_free)")
     if space.roll_free and any(p.needs_roll for p in parts):
         bad = next(p.name for p in parts if p.needs_roll)
         raise TaskError(f"part {bad!r} asks for full poses: the tool's turn about its axis matters, so the space "

@@ -12,9 +12,14 @@ with a move along and a turn about z) — provided u + t − t₀ is a twist N's
 reduced (only t₀, the first allowed twist, is formed) when every module that meets M's output allows
 a set of twists that every such shift maps onto itself.  When M may end the chain (a tool; a link
 when the space has chains without a tool) the shift becomes a turn of the tool frame about its own z
-axis: reduced only with ``roll_free`` (no part asks for a full pose).  Joint modules are never reduced
-(a twist moves the joint's travel).  :meth:`ComposeSpace.size` counts the reduced space and
-:meth:`ComposeSpace.size_all` the unreduced one.
+axis: reduced only with ``roll_free`` (no part asks for a full pose).  A *full-turn coaxial* joint
+module — revolute, its axis the input z axis, its travel at least a full turn, its proximal part
+symmetric about the axis — mounted at twist t is the machine at twist t₀ with the joint's values
+shifted by t − t₀; over a full turn of travel both take every angle, so they reach the same set of
+configurations (every body's pose): reduced only with ``cycle_free`` (no part has a motion cycle,
+whose straight joint-space moves would see the shifted travel).  Other joint modules are never
+reduced.  :meth:`ComposeSpace.for_parts` sets both flags from the parts.  :meth:`ComposeSpace.size`
+counts the reduced space and :meth:`ComposeSpace.size_all` the unreduced one.
 
 **Order.**  :meth:`ComposeSpace.ordered` yields the assemblies lazily in non-decreasing cost, ties by
 fewer joints, then by the assembly's text (``rmt assemble --modules`` form, text order): a heap of
@@ -37,21 +42,34 @@ import numpy as np
 from kin.modules import MAX_JOINTS, Assembly, Catalogue
 from kin.modules.catalogue import Module, _same_angle
 
-__all__ = ["ComposeSpace", "Pruned", "Partial", "axisymmetric", "MAX_LINKS_PER_JOINT", "TWIST_MODES"]
+__all__ = ["ComposeSpace", "Pruned", "Partial", "axisymmetric", "full_turn_coaxial", "MAX_LINKS_PER_JOINT",
+           "TWIST_MODES"]
 
 MAX_LINKS_PER_JOINT = 4
 TWIST_MODES = ("all", "reduced")
 _EPS = 1e-12            # m, rad: a frame or part "on the axis"
 
 
+def _on_axis(T: np.ndarray) -> bool:
+    """A frame on the z axis, turned about it only."""
+    T = np.asarray(T)
+    return not (np.abs(T[:2, 3]).max() > _EPS or abs(T[2, 2] - 1.0) > _EPS or np.abs(T[:2, 2]).max() > _EPS)
+
+
+def full_turn_coaxial(m: Module) -> bool:
+    """A revolute joint module turning about its input z axis over at least a full turn, its proximal
+    part symmetric about that axis (module text)."""
+    return (m.kind == "joint" and m.type == "revolute" and _on_axis(m.axis)
+            and m.limits[1] - m.limits[0] >= 2 * math.pi - 1e-12 and _symmetric(m))
+
+
 def axisymmetric(m: Module) -> bool:
     """A link or tool whose output frame lies on its input z axis, turned about it only, and whose part
     is symmetric about that axis (capsules on it, centre of mass on it, inertia ixx = iyy, no products)."""
-    if m.kind not in ("link", "tool"):
-        return False
-    T = np.asarray(m.out)
-    if np.abs(T[:2, 3]).max() > _EPS or abs(T[2, 2] - 1.0) > _EPS or np.abs(T[:2, 2]).max() > _EPS:
-        return False
+    return m.kind in ("link", "tool") and _on_axis(m.out) and _symmetric(m)
+
+
+def _symmetric(m: Module) -> bool:
     p = m.proximal
     if max(abs(p.com[0]), abs(p.com[1])) > _EPS:
         return False
@@ -95,10 +113,11 @@ class ComposeSpace:
     """The assemblies of ``catalogue`` (module text): ``joints`` = (least, most) joint modules;
     ``bases`` the base names (None: every base); ``tools`` tool names, None in the list meaning "no
     tool" (None: every tool, and no tool); ``links_per_joint`` link modules after each joint at most;
-    ``twists`` "all" or "reduced"; ``roll_free``: the parts need no turn of the tool about its axis."""
+    ``twists`` "all" or "reduced"; ``roll_free``: the parts need no turn of the tool about its axis;
+    ``cycle_free``: no part has a motion cycle."""
 
     def __init__(self, catalogue: Catalogue, joints=(3, 7), bases=None, tools=None, links_per_joint: int = 1,
-                 twists: str = "all", roll_free: bool = False):
+                 twists: str = "all", roll_free: bool = False, cycle_free: bool = False):
         self.catalogue = cat = catalogue
         try:
             lo, hi = (int(joints), int(joints)) if isinstance(joints, (int, np.integer)) else map(int, joints)
@@ -112,8 +131,8 @@ class ComposeSpace:
                              f"got {links_per_joint!r}")
         if twists not in TWIST_MODES:
             raise ValueError(f"twists must be one of {', '.join(TWIST_MODES)}, got {twists!r}")
-        self.joints, self.links_per_joint, self.twist_mode, self.roll_free = (lo, hi), int(links_per_joint), twists, \
-            bool(roll_free)
+        self.joints, self.links_per_joint, self.twist_mode = (lo, hi), int(links_per_joint), twists
+        self.roll_free, self.cycle_free = bool(roll_free), bool(cycle_free)
         self.bases = tuple(self._names(bases, "base", "bases"))
         all_tools = [m.name for m in cat.of_kind("tool")]
         tools = [*all_tools, None] if tools is None else list(tools)
@@ -129,6 +148,15 @@ class ComposeSpace:
         self._count = lru_cache(maxsize=None)(self._count_impl)
         self._best = lru_cache(maxsize=None)(self._best_impl)
         self._reach = lru_cache(maxsize=None)(self._reach_impl)
+
+    @classmethod
+    def for_parts(cls, catalogue: Catalogue, parts, **kw) -> "ComposeSpace":
+        """The space for ``parts`` with every twist reduction they allow (``twists="reduced"``,
+        ``roll_free`` and ``cycle_free`` from the parts); ``kw``: the other arguments."""
+        parts = list(parts)
+        kw.setdefault("twists", "reduced")
+        return cls(catalogue, roll_free=not any(p.needs_roll for p in parts),
+                   cycle_free=not any(p.cycle is not None for p in parts), **kw)
 
     def _names(self, names, kind: str, what: str) -> list[str]:
         if names is None:
@@ -147,7 +175,11 @@ class ComposeSpace:
     # ---- moves ---------------------------------------------------------------------------------------
     def _reducible(self, c: str, m: Module) -> bool:
         """Whether M's twist after an output of type ``c`` may be fixed to its first (module text)."""
-        if self.twist_mode != "reduced" or not axisymmetric(m):
+        if self.twist_mode != "reduced":
+            return False
+        if m.kind == "joint":
+            return self.cycle_free and full_turn_coaxial(m)
+        if not axisymmetric(m):
             return False
         cat = self.catalogue
         ends = m.kind == "tool" or (self.no_tool and m.kind == "link")

@@ -21,6 +21,7 @@ import kin
 from studies.cli import (
     assemble,
     cell,
+    compose,
     design,
     export,
     follow,
@@ -43,7 +44,7 @@ from studies.cli.tcp import TCP_COMMANDS, robot_loader, tcp_args
 
 #: the command groups, in the order ``rmt --help`` lists their commands
 GROUPS = (kinematics, ik, singular, plan, timing, export, cell, scene, toolpath, follow, study, design, reach, place,
-          sweep, urdf, assemble, view)
+          sweep, urdf, assemble, compose, view)
 
 
 class UsageError(Exception):
