@@ -38,6 +38,7 @@ SLOW_TESTS = (
     "tests/studies/benchmarks/test_bench_startup.py::test_the_report_holds_every_command",
     "tests/planning/timing/test_reachability.py::test_same_duration_as_the_osqp_method",
     "tests/planning/certify/test_points.py::test_segments_through_a_point_are_never_proven",
+    "tests/design/compose/test_compose_acceptance.py::test_least_cost_equals_the_exhaustive_enumeration_with_links",
 )
 
 #: `rmt` commands of the docs' examples that run a study, a sweep, an optimisation or a follower

@@ -66,9 +66,11 @@ def _check(catalogue: Catalogue, parts: Sequence, space: ComposeSpace) -> list:
 def compose(catalogue: Catalogue, parts: Sequence, space: ComposeSpace, settings: ComposeSettings | None = None,
             budget_s: float | None = None, progress: Callable[[str], None] | None = None,
             judge_many: Callable[[list], list[Verdict]] | None = None, max_judged: int | None = None,
-            k: int = 1) -> ComposeResult:
+            k: int = 1, trace: Callable[[str, object], None] | None = None) -> ComposeResult:
     """The least-cost assembly of ``space`` that serves every part (module text); with ``k`` > 1 the
-    k cheapest.  ``progress(line)`` gets one line per batch."""
+    k cheapest.  ``progress(line)`` gets one line per batch; ``trace(what, item)`` every step:
+    ("pruned", :class:`Pruned`), ("bound", (Assembly, stage, reason)), ("skipped", Assembly),
+    ("judged", (Assembly, {part: Verdict}))."""
     t0 = time.perf_counter()
     parts = _check(catalogue, parts, space)
     settings = settings or ComposeSettings()
@@ -115,6 +117,8 @@ def compose(catalogue: Catalogue, parts: Sequence, space: ComposeSpace, settings
                 exhausted = True
                 break
             if isinstance(item, Pruned):
+                if trace:
+                    trace("pruned", item)
                 counts[item.stage] += item.count
                 examples.setdefault(item.stage, f"every completion of {item.partial.assembly().text(catalogue)} …: "
                                                 f"{item.reason}")
@@ -123,12 +127,16 @@ def compose(catalogue: Catalogue, parts: Sequence, space: ComposeSpace, settings
             last_cost = cost
             hit = screen(catalogue, a, geoms)
             if hit:
+                if trace:
+                    trace("bound", (a, hit[0], hit[2]))
                 counts[hit[0]] += 1
                 examples.setdefault(hit[0], f"{a.text(catalogue)}: part {hit[1]}: {hit[2]}")
                 continue
             if phase == "skip":
                 seen += 1
                 if seen % stride:
+                    if trace:
+                        trace("skipped", a)
                     counts["not_judged"] += 1
                     continue
             try:
@@ -137,6 +145,8 @@ def compose(catalogue: Catalogue, parts: Sequence, space: ComposeSpace, settings
                 why = None
                 notes.append(f"{a.text(catalogue)}: {e}")
             if why:
+                if trace:
+                    trace("bound", (a, "holding", why))
                 counts["holding"] += 1
                 examples.setdefault("holding", f"{a.text(catalogue)}: {why}")
                 continue
@@ -156,6 +166,8 @@ def compose(catalogue: Catalogue, parts: Sequence, space: ComposeSpace, settings
                 alive = [i for i, v in zip(alive, got) if v.feasible]
             counts["evaluated"] += len(batch)
             for i, (a, cost) in enumerate(batch):
+                if trace:
+                    trace("judged", (a, verdicts[i]))
                 if i not in alive:
                     counts["infeasible"] += 1
                 elif len(found) < k:

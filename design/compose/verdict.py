@@ -107,12 +107,23 @@ def _windows(robot, part):
     return build_windows(robot, analysis=analysis, **{kind: value})
 
 
-def _problem(robot, part, reach: ReachSettings):
+def _problem(robot, part, reach: ReachSettings, targets=None, windows=False):
     from design.reach.score import ScoreWeights
     from design.reach.study import ReachProblem
     # the score is not asked for: a fixed dexterity reference saves the sample's Jacobians
-    return ReachProblem(robot, part.targets, part.cell, part.clearance, _windows(robot, part),
-                        ScoreWeights(dexterity_ref=1.0), reach, part.dexterity)
+    return ReachProblem(robot, part.targets if targets is None else targets, part.cell, part.clearance,
+                        _windows(robot, part) if windows is False else windows, ScoreWeights(dexterity_ref=1.0), reach,
+                        part.dexterity)
+
+
+def _farthest_first(robot, part, reach: ReachSettings, windows, far: int):
+    """The reach study of the part's one target ``far`` alone — its verdict is the full study's for
+    that target when the targets are positions: each target's IK starts are its own nearest sample
+    configurations (positions only), its IK runs are its own."""
+    from design.task.model import Targets
+    t = part.targets
+    one = Targets(t.positions[[far]], tolerance=t.tolerance)
+    return _problem(robot, part, reach, one, windows).run(part.placement)
 
 
 def judge(catalogue: Catalogue, assembly: Assembly, part, settings: ComposeSettings | None = None) -> Verdict:
@@ -150,7 +161,15 @@ def judge(catalogue: Catalogue, assembly: Assembly, part, settings: ComposeSetti
         return verdict("holding", why)
     robot = kin.Robot(chain, backend="vm")
     try:
-        pb = _problem(robot, part, settings.reach)
+        windows = _windows(robot, part)
+        if part.targets.orientation == "free" and N > 1:
+            # the target farthest from the first joint alone first: most assemblies miss it
+            far = int(np.argmax(np.linalg.norm(g.positions - sk.points[0], axis=1)))
+            d = _farthest_first(robot, part, settings.reach, windows, far)
+            if not d["reached"][0]:
+                return verdict("reach", f"target {far} (the farthest from the first joint): "
+                                        f"{_TOP_WORDS.get(int(d['top'][0]), 'not reached')}; the others were not tried")
+        pb = _problem(robot, part, settings.reach, windows=windows)
     except kin.RmtError as e:
         return verdict("reach", f"the reach study could not be set up: {e}")
     d = pb.run(part.placement)
