@@ -227,6 +227,17 @@ class VerdictStore:
 
 
 # ---- judging, here or on workers -----------------------------------------------------------------
+#: fields of the composition settings that do not change a verdict (how many are judged at once,
+#: how an answer is verified afterwards): left out of the cache key, so compose and reconfigure share
+_NOT_JUDGED = ("batch", "verify")
+
+
+def _judged(settings):
+    if dataclasses.is_dataclass(settings) and type(settings).__name__ == "ComposeSettings":
+        return {f.name: getattr(settings, f.name) for f in dataclasses.fields(settings) if f.name not in _NOT_JUDGED}
+    return settings
+
+
 @dataclass(frozen=True)
 class _Item:
     key: str                 # the item's number in its call (executors name lost chunks by it)
@@ -264,14 +275,15 @@ class VerdictJudge:
     (a :class:`VerdictStore`, or None), the rest judged once each — in this process, or on
     ``executor`` (an unopened :class:`design.sweep.LocalExecutor` / :class:`design.sweep.DaskExecutor`;
     opened on the first miss, closed by :meth:`close`) — and stored.  ``hits`` and ``judged`` count
-    the verdicts taken from the cache and judged."""
+    the verdicts taken from the cache and judged.  ``owns_store``: :meth:`close` closes the store too."""
 
     def __init__(self, catalogue, settings=None, store: VerdictStore | None = None, executor=None,
-                 judge: Callable | None = None):
+                 judge: Callable | None = None, owns_store: bool = False):
         self.catalogue, self.settings, self.store, self.executor = catalogue, settings, store, executor
+        self.owns_store = owns_store
         self.job = VerdictJob(catalogue, settings, judge)
         self._cat_hash = content_hash(catalogue)
-        self._set_hash = content_hash(settings)
+        self._set_hash = content_hash(_judged(settings))
         self._part_hash: dict[int, tuple[object, str]] = {}
         self._open = False
         self.hits = self.judged = 0
@@ -334,10 +346,12 @@ class VerdictJudge:
         return results
 
     def close(self) -> None:
-        """Stop the executor's workers (the cache stays open: it is the caller's)."""
+        """Stop the executor's workers (and close the cache if it is owned)."""
         if self._open:
-            self.executor.close()
             self._open = False
+            self.executor.close()
+        if self.owns_store and self.store is not None:
+            self.store.close()
 
     def __enter__(self):
         return self

@@ -40,19 +40,24 @@ def _joints(text: str) -> tuple[int, int]:
 
 
 def reconfiguration_args(sp) -> None:
-    """The reconfiguration options of ``rmt compose`` (base assembly plus per-part swaps): added here."""
+    """The reconfiguration options of ``rmt compose`` (base assembly plus per-part swaps, the verdict
+    cache, Dask): :mod:`studies.cli.reconfigure`."""
+    from studies.cli.reconfigure import add_args
+    add_args(sp)
 
 
 def reconfiguration(args, catalogue, parts, space, settings, judge_many, progress) -> int | None:
     """Run the reconfiguration instead of the single-assembly search when its options ask for it
     (returns the exit code), else None."""
-    return None
+    from studies.cli.reconfigure import run
+    return run(args, catalogue, parts, space, settings, judge_many, progress)
 
 
 def judge_hook(args, catalogue, settings):
     """The ``judge_many`` of the run: None for the default (serial, in this process); a cached or
     distributed one from the reconfiguration/storage options."""
-    return None
+    from studies.cli.reconfigure import judge_hook as hook
+    return hook(args, catalogue, settings)
 
 
 def _space(args, cat, parts):
@@ -130,13 +135,17 @@ def cmd_compose(args, load_robot) -> int:
         print(line, file=sys.stderr, flush=True)
 
     judge_many = judge_hook(args, cat, settings)
-    # ---- reconfiguration: a base assembly plus per-part swaps (its options decide; see reconfiguration()) ----
-    code = reconfiguration(args, cat, parts, space, settings, judge_many, progress)
-    if code is not None:
-        return code
-    # ---- one assembly for every part ----
-    res = compose(cat, parts, space, settings, budget_s=args.budget, progress=progress, judge_many=judge_many,
-                  max_judged=args.max_judged)
+    try:
+        # ---- reconfiguration: a base assembly plus per-part swaps (its options decide; see reconfiguration()) ----
+        code = reconfiguration(args, cat, parts, space, settings, judge_many, progress)
+        if code is not None:
+            return code
+        # ---- one assembly for every part ----
+        res = compose(cat, parts, space, settings, budget_s=args.budget, progress=progress, judge_many=judge_many,
+                      max_judged=args.max_judged)
+    finally:
+        from studies.cli.reconfigure import close
+        close(judge_many)      # the workers of --dask, the cache of --store
     written = _write(args, cat, res, outputs)
     if args.json:
         print(dump({**res.to_dict(), "files": written}))
