@@ -126,6 +126,38 @@ def _farthest_first(robot, part, reach: ReachSettings, windows, far: int):
     return _problem(robot, part, reach, one, windows).run(part.placement)
 
 
+#: reach-study outcomes of kinematic twins, per process: (id of the part, settings, twin key) → (reached all,
+#: reason, targets reached); the parts are kept alive beside them so that an id is never reused
+_TWINS: dict[tuple, tuple[bool, str, int]] = {}
+_TWIN_PARTS: dict[int, object] = {}
+_TWIN_LIMIT = 200_000
+
+
+def _shape(m) -> tuple:
+    """What a module gives the reach study: its frames, travel and capsules — not its mass, torque,
+    speed or cost."""
+    def b(T):
+        return b"" if T is None else np.ascontiguousarray(T, dtype=float).tobytes()
+    return (m.kind, m.type, b(m.axis), b(m.out), m.limits, m.proximal.capsules, m.distal.capsules)
+
+
+def twin_key(catalogue: Catalogue, assembly: Assembly) -> tuple:
+    """Assemblies with equal keys are *kinematic twins*: module for module the same frames, travel and
+    capsules at the same twists (e.g. a rotary module and its stronger sibling of the same housing).  Their
+    robots have the same forward kinematics, joint limits and collision geometry, so the reach study —
+    targets, cell, clearance, windows, dexterity, all of them functions of those alone — gives them the
+    same verdict; only the holding check and the cycle, which see masses, torques and speeds, differ."""
+    return tuple(_shape(catalogue.modules[n]) for n in assembly.modules) + tuple(round(t, 12) for t in assembly.twists)
+
+
+def _twin(part, settings, key) -> tuple:
+    if len(_TWINS) > _TWIN_LIMIT:
+        _TWINS.clear()
+        _TWIN_PARTS.clear()
+    _TWIN_PARTS[id(part)] = part
+    return (id(part), repr(settings.reach), key)
+
+
 def judge(catalogue: Catalogue, assembly: Assembly, part, settings: ComposeSettings | None = None) -> Verdict:
     """The verdict of ``assembly`` for ``part`` (:class:`design.compose.parts.Part`): module text."""
     import kin
@@ -159,7 +191,14 @@ def judge(catalogue: Catalogue, assembly: Assembly, part, settings: ComposeSetti
     why = holding_bound(chain)
     if why:
         return verdict("holding", why)
+    tk = _twin(part, settings, twin_key(catalogue, assembly))
+    known = _TWINS.get(tk)
+    if known is not None and not known[0]:
+        return verdict("reach", f"{known[1]} (the reach study of a kinematic twin: the same frames, travel and "
+                                "capsules)", reached=known[2])
     robot = kin.Robot(chain, backend="vm")
+    if known is not None:
+        return _cycle_stage(catalogue, assembly, part, settings, chain, robot, verdict, payload)
     try:
         windows = _windows(robot, part)
         if part.targets.orientation == "free" and N > 1:
@@ -167,8 +206,10 @@ def judge(catalogue: Catalogue, assembly: Assembly, part, settings: ComposeSetti
             far = int(np.argmax(np.linalg.norm(g.positions - sk.points[0], axis=1)))
             d = _farthest_first(robot, part, settings.reach, windows, far)
             if not d["reached"][0]:
-                return verdict("reach", f"target {far} (the farthest from the first joint): "
-                                        f"{_TOP_WORDS.get(int(d['top'][0]), 'not reached')}; the others were not tried")
+                why = (f"target {far} (the farthest from the first joint): "
+                       f"{_TOP_WORDS.get(int(d['top'][0]), 'not reached')}; the others were not tried")
+                _TWINS[tk] = (False, why, 0)
+                return verdict("reach", why)
         pb = _problem(robot, part, settings.reach, windows=windows)
     except kin.RmtError as e:
         return verdict("reach", f"the reach study could not be set up: {e}")
@@ -177,8 +218,18 @@ def judge(catalogue: Catalogue, assembly: Assembly, part, settings: ComposeSetti
     if not reached.all():
         miss = np.flatnonzero(~reached)
         i = int(miss[0])
-        return verdict("reach", f"reached {int(reached.sum())} of {N} targets; target {i}: "
-                                f"{_TOP_WORDS.get(int(d['top'][i]), 'not reached')}", reached=int(reached.sum()))
+        why = (f"reached {int(reached.sum())} of {N} targets; target {i}: "
+               f"{_TOP_WORDS.get(int(d['top'][i]), 'not reached')}")
+        _TWINS[tk] = (False, why, int(reached.sum()))
+        return verdict("reach", why, reached=int(reached.sum()))
+    _TWINS[tk] = (True, "", N)
+    return _cycle_stage(catalogue, assembly, part, settings, chain, robot, verdict, payload)
+
+
+def _cycle_stage(catalogue, assembly, part, settings, chain, robot, verdict, payload) -> Verdict:
+    """The verdict of an assembly that reaches every target: ok, or the cycle's."""
+    import kin
+    N = len(part.targets)
     if part.cycle is None:
         return verdict("ok", f"reached all {N} targets", reached=N)
     from design.cycle.evaluate import evaluate_cycle
