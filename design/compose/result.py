@@ -53,7 +53,7 @@ class Verification:
 class ComposeResult:
     """See the module text.  ``found`` in cost order (the answer first); ``exhaustive``: every
     assembly up to the answer's cost (the whole space when none is found) was judged or proven empty;
-    ``frontier``: the cost up to which the search was exhaustive."""
+    ``frontier``: the cost below which the search was exhaustive."""
 
     catalogue: str
     currency: str
@@ -122,7 +122,7 @@ class ComposeResult:
             c = self.counts
             upto = f" of cost ≤ {self.found[0].cost:g}{cur}" if self.found else ""
             out.append(f"not exhaustive: {c['not_judged']} assemblies{upto} not judged (a stated heuristic: "
-                       + (f"exhaustive up to cost {self.frontier:g}{cur})" if self.frontier is not None else
+                       + (f"exhaustive below cost {self.frontier:g}{cur})" if self.frontier is not None else
                           "nothing was exhaustive)"))
         for stage, why in self.examples.items():
             out.append(f"  e.g. {stage.replace('_', ' ')}: {why}")
@@ -142,7 +142,7 @@ class ComposeResult:
                 "cost": self.cost,
                 "assemblies": [{"modules": f.text, "cost": f.cost, "joints": f.joints,
                                 "verdicts": {k: v.to_dict() for k, v in f.verdicts.items()}} for f in self.found],
-                "counts": dict(self.counts), "exhaustive": self.exhaustive, "exhaustive_up_to_cost": self.frontier,
+                "counts": dict(self.counts), "exhaustive": self.exhaustive, "exhaustive_below_cost": self.frontier,
                 "examples": dict(self.examples),
                 "verification": [{"part": v.part, "reached": v.reached, "targets": v.targets, "starts": v.starts,
                                   "samples": v.samples, "spins": v.spins, "reasons": v.reasons, "ok": v.ok}

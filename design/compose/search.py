@@ -175,7 +175,7 @@ def compose(catalogue: Catalogue, parts: Sequence, space: ComposeSpace, settings
             if progress:
                 lo, hi = float(batch[0][1]), float(batch[-1][1])
                 pruned = counts["dof"] + counts["reach_bound"] + counts["holding"]
-                progress(f"compose: batch {batches} ({phase}{'' if stride == 1 else f', every {stride}th'}): "
+                progress(f"compose: batch {batches} ({phase}{'' if stride == 1 else f': 1 in {stride}'}): "
                          f"{len(batch)} judged at cost {lo:g}–{hi:g}, {len(alive)} feasible; so far judged "
                          f"{counts['evaluated']}, proven empty {pruned}; {time.perf_counter() - t0:.1f} s")
         if len(found) >= k or exhausted:
