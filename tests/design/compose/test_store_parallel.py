@@ -28,3 +28,24 @@ def test_parallel_verdicts_equal_serial_ones(tmp_path, executor):
         assert len(store) == len(pairs)
     assert h.CALLS[0] == before         # judged in the workers, not here
     assert first + rest[7:] == serial and rest == serial
+
+
+@pytest.mark.slow
+def test_the_composition_verdicts_on_a_dask_local_cluster_equal_serial_ones():
+    from dataclasses import replace
+    from pathlib import Path
+
+    from design.compose import ComposeSettings, load_part
+    from design.reach import ReachSettings
+    from kin.modules import Assembly
+    cat = h.catalogue()
+    folder = Path(__file__).resolve().parent / "reconfigure_parts"
+    parts = [load_part(folder / "near.toml"), load_part(folder / "far.toml")]
+    settings = ComposeSettings(reach=ReachSettings(starts=4, samples=1024), verify=None)
+    texts = ["B JL JL LS T", "B JS LL JL T", "B JL LE JL LL T", "B JS JS T", "B JL LL JL@90 LS T"]
+    pairs = [(Assembly.parse(t, cat), p) for t in texts for p in parts]
+    serial = VerdictJudge(cat, settings)(pairs)
+    with VerdictJudge(cat, settings, executor=DaskExecutor(local_workers=2)) as j:
+        dask = j(pairs)
+    assert [replace(v, seconds=0.0) for v in dask] == [replace(v, seconds=0.0) for v in serial]
+    assert {v.stage for v in serial} == {"ok", "reach", "reach_bound", "holding"}     # every kind of verdict
