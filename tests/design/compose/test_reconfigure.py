@@ -168,3 +168,26 @@ def test_bad_input_is_refused_with_one_line(cat, kw, msg):
         reconfigure(cat, _parts("weld", "pick", "drill"), candidates=cands, **args)
     with pytest.raises(ReconfigurationError, match="at least one part"):
         reconfigure(cat, [], swap_cost=1.0, candidates=[])
+
+
+def test_the_single_search_sees_the_space_up_to_the_plans_total(cat):
+    from fractions import Fraction
+
+    from design.compose import ComposeSpace, Pruned
+    from design.compose.reconfigure import _UpTo
+    space = ComposeSpace(cat, joints=(1, 2), tools=["T"], links_per_joint=0)
+
+    def prune(partial):          # every completion of a partial starting with the strong joint set aside
+        return ("reach_bound", "test") if partial.modules[1] == "JS" and len(partial.modules) == 2 else None
+
+    def cost(item):
+        return item.cost if isinstance(item, Pruned) else item[1]
+    every = list(space.ordered(prune))
+    assert any(isinstance(x, Pruned) for x in every) and [cost(x) for x in every] == sorted(cost(x) for x in every)
+    ceiling = float(cost(every[len(every) // 2]))
+    cut = _UpTo(space, ceiling)
+    kept = list(cut.ordered(prune))
+    assert kept == [x for x in every if cost(x) <= Fraction(ceiling)] and len(kept) < len(every) and cut.stopped
+    assert cut.size() == space.size() and cut.catalogue is cat
+    whole = _UpTo(space, float(cost(every[-1])))
+    assert list(whole.ordered(prune)) == every and not whole.stopped
