@@ -41,9 +41,9 @@ SLOW_TESTS = (
     "tests/design/compose/test_compose_acceptance.py::test_least_cost_equals_the_exhaustive_enumeration_with_links",
 )
 
-#: `rmt` commands of the docs' examples that run a study, a sweep, an optimisation or a follower
-#: over thousands of waypoints (a page's commands that read their output are among them)
-SLOW_COMMANDS = {"study", "sweep", "sweep-export", "sweep-plot", "optimise", "follow"}
+#: `rmt` commands of the docs' examples that run a study, a sweep, an optimisation, a composition
+#: search or a follower over thousands of waypoints (a page's commands that read their output are among them)
+SLOW_COMMANDS = {"study", "sweep", "sweep-export", "sweep-plot", "optimise", "follow", "compose"}
 
 
 def _slow(item) -> bool:

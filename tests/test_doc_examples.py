@@ -169,6 +169,10 @@ def _read_toml_example(text: str, tmp_path: Path):
         path = tmp_path / "study.toml"
         path.write_text(text)
         return load_study(path)
+    if "[target]" in text and not re.search(r"^robot = ", text, re.M):      # a part file (no robot)
+        from design.compose import loads_part
+        from studies.cli.compose import PARTS_DIR
+        return loads_part(text, "<part file example>", base=PARTS_DIR)
     if "[target]" in text:
         from design.task import loads_task
         from studies.cli.design import TASK_DIR

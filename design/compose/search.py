@@ -209,8 +209,9 @@ def compose(catalogue: Catalogue, parts: Sequence, space: ComposeSpace, settings
     notes.append(f"a reached target is a witness (a configuration that passes); an unreached one is the reach "
                  f"study's verdict (IK from {s.starts} starts among {s.samples} samples), not a proof")
     if counts["equivalent"]:
-        notes.append("twists of axisymmetric links and tools merged with the next module's (or the tool's own turn "
-                     "about its axis): the same machine, docs/modules.md")
+        notes.append("twist variants proven to be the same machine were left out: an axisymmetric link's or tool's "
+                     "turn handed on to the next module (or the tool's own axis), a full-turn coaxial joint's taken "
+                     "by its joint value (docs/modules.md)")
     return ComposeResult(catalogue=catalogue.name, currency=catalogue.currency, parts=[p.name for p in parts],
                          space=space.describe(), found=found, counts=counts, exhaustive=exhaustive, frontier=frontier,
                          examples=examples, verification=verification, notes=notes,
