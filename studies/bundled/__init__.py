@@ -16,7 +16,7 @@ from kin.errors import RmtError
 
 #: the bundled studies in the order ``rmt study --list`` shows them; the first is the default
 STUDIES = ("fanuc_singularities", "scara_error_window", "cnc_rrrppp", "ur3_drawing", "puma_configurations",
-           "scara_design", "scara_cycle", "fanuc_weld_cell", "fanuc_weld_placement")
+           "scara_design", "scara_cycle", "fanuc_weld_cell", "fanuc_weld_placement", "module_reconfiguration")
 DEFAULT = STUDIES[0]
 
 
