@@ -86,3 +86,12 @@ def test_verify_explains_with_another_start_set(cat, targets):
     miss = verify(cat, Assembly.parse("B Rz L300 Ry L300 Rz2", cat), Part("p", targets),
                   ReachSettings(starts=6, samples=2048))
     assert not miss.reached.all() and set(miss.reason_counts()) - {"reached"}
+
+
+def test_windows_of_each_assembly_keep_solutions_out(cat):
+    # the arm stretched out (elbow straight): reached only at its elbow singularity
+    stretched = h.targets_of(cat, ARM, [[0, 40, 0]])
+    a = Assembly.parse(ARM, cat)
+    assert judge(cat, a, Part("p", stretched), SETTINGS).feasible
+    v = judge(cat, a, Part("p", stretched, windows=("sigma_min", 0.04)), SETTINGS)
+    assert v.stage == "reach" and "inside a singular window" in v.reason
