@@ -101,7 +101,7 @@ def compose(catalogue: Catalogue, parts: Sequence, space: ComposeSpace, settings
     phase, stride, seen = "exhaustive", 1, 0
     frontier = None
     last_cost = None
-    batches, exhausted, cut = 0, False, False
+    batches, exhausted, cut, popped = 0, False, False, 0
     notes: list[str] = []
 
     def over(frac: float) -> bool:
@@ -112,6 +112,13 @@ def compose(catalogue: Catalogue, parts: Sequence, space: ComposeSpace, settings
     while True:
         batch: list[tuple[Assembly, object]] = []
         while len(batch) < settings.batch:
+            popped += 1
+            if popped % 64 == 0 and budget_s is not None:       # a long fill stops at the budget too
+                if phase == "skip" and over(1.0):
+                    cut = True
+                    break
+                if phase == "exhaustive" and batch and over(0.5):
+                    break
             item = next(gen, None)
             if item is None:
                 exhausted = True
@@ -143,7 +150,8 @@ def compose(catalogue: Catalogue, parts: Sequence, space: ComposeSpace, settings
                 why = holding_bound(assembled(catalogue, a))
             except AssemblyError as e:          # a frame the DH extraction refuses: judged as such below
                 why = None
-                notes.append(f"{a.text(catalogue)}: {e}")
+                if len(notes) < 5:
+                    notes.append(f"{a.text(catalogue)}: not assembled: {e}")
             if why:
                 if trace:
                     trace("bound", (a, "holding", why))
@@ -178,7 +186,7 @@ def compose(catalogue: Catalogue, parts: Sequence, space: ComposeSpace, settings
                 progress(f"compose: batch {batches} ({phase}{'' if stride == 1 else f': 1 in {stride}'}): "
                          f"{len(batch)} judged at cost {lo:g}–{hi:g}, {len(alive)} feasible; so far judged "
                          f"{counts['evaluated']}, proven empty {pruned}; {time.perf_counter() - t0:.1f} s")
-        if len(found) >= k or exhausted:
+        if len(found) >= k or exhausted or cut:
             break
         if phase == "exhaustive" and over(0.5):
             phase, stride, frontier = "skip", 2, float(last_cost) if last_cost is not None else None
