@@ -23,8 +23,13 @@ MAX_LOCAL_WORKERS = 64
 DEFAULT_CANDIDATES = 5
 
 
+#: the largest --candidates and --swap-cost (design.compose.reconfigure's MAX_K and MAX_SWAP_COST, written
+#: here so that `rmt --help` imports no design module; tests/studies/cli/test_reconfigure_limits.py holds them equal)
+MAX_K = 50
+MAX_SWAP_COST = 1e12
+
+
 def add_args(sp) -> None:
-    from design.compose.reconfigure import MAX_K, MAX_SWAP_COST
     sp.add_argument("--swap-cost", type=bounded(0, MAX_SWAP_COST, "(catalogue currency)"), metavar="C",
                     help="plan a base assembly plus per-part swaps instead of one assembly for all parts: the least "
                          "modules owned + C × swaps (C in the catalogue's currency)")
