@@ -101,7 +101,8 @@ class ComposeResult:
         out = [f"compose: catalogue {self.catalogue}, parts {', '.join(self.parts)}; {self.space}"]
         if self.found:
             f = self.found[0]
-            out.append(f"least cost: {f.cost:g}{cur}, {f.joints} joints: {f.text}")
+            head = "least cost" if self.exhaustive else "best found (not proven least: the search was cut)"
+            out.append(f"{head}: {f.cost:g}{cur}, {f.joints} joints: {f.text}")
             for name in self.parts:
                 v = f.verdicts.get(name)
                 if v is None:

@@ -248,7 +248,7 @@ def assemble(catalogue: Catalogue, assembly: Assembly, name: str | None = None, 
     geometry = RobotGeometry(tuple(capsules), source="modules") if capsules else None
     text = assembly.text(catalogue)
     chain = Chain(name=name, joints=tuple(joints), convention="standard",
-                  title=f"{name}: {text} (catalogue {catalogue.name})",
+                  title=f"{text} (catalogue {catalogue.name})",
                   source=f"assembled by rmtkit from the module catalogue {catalogue.name!r}: {text}"
                          + (f" (catalogue source: {catalogue.source})" if catalogue.source else ""),
                   length_unit=catalogue.length_unit, angle_unit=catalogue.angle_unit,

@@ -213,13 +213,15 @@ def _module(r: _CatReader, raw: Any, i: int, ls: float, as_: float, connectors: 
     kind = r.string(raw.get("kind"), f"{fld}.kind", KINDS) if "kind" in raw else None
     if kind is None:
         raise r.fail(f"{fld}.kind", f"missing required field; allowed: {', '.join(KINDS)}")
+    if isinstance(raw.get("name"), str) and TYPE_RE.match(raw["name"]):
+        fld = f"modules[{i}] ({raw['name']})"          # messages name the module as soon as it has a name
     r.table(raw, fld, MODULE_FIELDS[kind])
     for k in ("name", "cost"):
         if k not in raw:
             raise r.fail(f"{fld}.{k}", "missing required field")
-    name = r.string(raw["name"], f"{fld}.name")
+    name = r.string(raw["name"], f"modules[{i}].name")
     if not TYPE_RE.match(name):
-        raise r.fail(f"{fld}.name", f"{name!r} must match [A-Za-z0-9_.-]{{1,64}}")
+        raise r.fail(f"modules[{i}].name", f"{name!r} must match [A-Za-z0-9_.-]{{1,64}}")
     fld = f"modules[{i}] ({name})"
     cost = r.bounded(raw["cost"], f"{fld}.cost", 0.0, MAX_COST)
     faces = {}

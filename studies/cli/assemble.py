@@ -225,7 +225,7 @@ def cmd_modules(args, load_robot) -> int:
         print(f"source: {cat.source}")
     cur = f"costs in {cat.currency}" if cat.currency else "costs"
     print(f"lengths in {lu}, angles in {au}, masses in kg, {cur}; "
-          f"{len(cat.modules)} modules, {len(conns)} connector types")
+          f"{len(cat.modules)} modules, {len(conns)} connector type{'s' if len(conns) != 1 else ''}")
     print("connectors (the twists at which two faces of a type meet):")
     w = max(len(c["name"]) for c in conns)
     for c in conns:
