@@ -130,13 +130,7 @@ def study(s: Study, scratch: Path) -> None:
         if plan.base is None:
             s.finding("no plan: a part has no candidate", ok=False)
             return
-        single = plan.single_cost
-        s.finding(f"Base machine {plan.base_text}; {plan.swaps} swap(s) in all; modules owned "
-                  f"{plan.inventory_cost:.0f} {cat.currency} + swaps {plan.swaps} × {swap:g} = total "
-                  f"{plan.total:.0f} {cat.currency}"
-                  + (f", against {single:.0f} {cat.currency} for the cheapest single machine found for all three "
-                     f"({plan.single_text})." if single is not None else "; no single machine among the "
-                     "candidates serves all three parts."), ok=True)
+        s.finding(f"Base machine {plan.base_text}, {plan.swaps} swap(s) in all: {plan.comparison()}.", ok=True)
         s.table(["part", "configuration", "swaps from the base"],
                 [[n, t, "; ".join(ops) or "none (the base itself)"]
                  for n, t, ops in zip(plan.parts, plan.texts, plan.operations)],
