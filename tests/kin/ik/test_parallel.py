@@ -39,7 +39,10 @@ def _check_branches(chain, B, T):
 def test_ur_branches_reproduce_the_target_and_contain_the_configuration(name):
     r = kin.load_robot(name)
     c = r.chain
-    assert isinstance(closed_form(c), ParallelArm)
+    arm = closed_form(c)
+    assert isinstance(arm, ParallelArm)
+    dh = c.to_modified().dh_table()                 # the structure holds the robot's own lengths
+    assert np.abs(arm.a - dh[:, 0]).max() <= 1e-12 and np.abs(arm.d - dh[:, 2]).max() <= 1e-12
     for q in random_q(c, 25, seed=11):
         T = fk_numpy(c, q)
         B = analytic_ik(r, T)
@@ -127,7 +130,10 @@ def test_structure_read_from_the_dh_values_not_the_name():
     flipped3 = replace(m, name="arm_flipped3", joints=tuple(js2))
     for chain in (placed, placed.to_modified(), flipped, flipped3):
         r = kin.Robot(chain)
-        assert isinstance(closed_form(chain), ParallelArm)
+        arm = closed_form(chain)
+        assert isinstance(arm, ParallelArm)
+        # the link lengths survive the folding of flipped twists (only signs of θ and d move)
+        assert np.abs(np.abs(arm.a) - np.abs(chain.to_modified().dh_table()[:, 0])).max() <= 1e-12
         for q in random_q(chain, 8, seed=9):
             T = fk_numpy(chain, q)
             B = analytic_ik(r, T)
