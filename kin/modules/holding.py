@@ -55,7 +55,7 @@ class HoldingReport:
         j = self.fails[0]
         name = chain.joints[j].name or f"joint {j + 1}"
         unit = "N·m" if chain.joints[j].is_revolute else "N"
-        q = chain.from_si(self.witness_q[j]) if hasattr(chain, "from_si") else self.witness_q[j]
+        q = chain.from_si(self.witness_q[j])
         return (f"joint {j + 1} ({name}) cannot hold the rest of the chain at rest: gravity needs "
                 f"{self.witness[j]:.4g} {unit} at q = ({', '.join(f'{x:.4g}' for x in np.ravel(q))}) "
                 f"({chain.angle_unit}, {chain.length_unit}), beyond its max_torque {self.max_torque[j]:.4g} {unit}")
@@ -72,7 +72,7 @@ class HoldingReport:
 
 def _masses(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
     """Mass (kg) and ‖com‖ (m, in its own frame: body k's DH frame, the payload's via the tool) per body 1…n+1."""
-    n = chain.n if hasattr(chain, "n") else len(chain.joints)
+    n = chain.n
     m, r = np.zeros(n + 1), np.zeros(n + 1)
     for k, j in enumerate(chain.joints):
         if j.inertia is not None:
@@ -86,26 +86,23 @@ def _masses(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
 
 def gravity_bound(chain: Chain) -> np.ndarray:
     """The proven bound of |g_j(q)| over the joint limits, per joint (N·m or N; module text)."""
-    n = len(chain.joints)
+    from kin.geometry.frames import body_frames
+    if chain.convention != "standard":
+        raise ValueError("gravity_bound takes a standard-DH chain")
+    n = chain.n
     g = float(np.linalg.norm(chain.gravity))
     m, r = _masses(chain)
+    dh = chain.dh_table()
     step = np.zeros(n)           # the largest distance between DH frame origins i−1 and i
-    across = np.abs(np.array([row[0] for row in chain.dh_table()], float))   # |a_i|: the row's move across z_i
-    for i, (j, (a, _alpha, d, _theta)) in enumerate(zip(chain.joints, chain.dh_table())):
-        if chain.convention != "standard":
-            raise ValueError("gravity_bound takes a standard-DH chain")
+    across = np.abs(dh[:, 0])    # |a_i|: the row's move across z_i
+    for i, (j, (a, _alpha, d, _theta)) in enumerate(zip(chain.joints, dh)):
         if j.is_revolute:
             step[i] = math.hypot(a, d)
         else:
             step[i] = max(math.hypot(a, d + j.limits[0]), math.hypot(a, d + j.limits[1]))
     # z_j at q = 0 in the base placement's frame; it keeps its direction in every configuration when
     # every revolute joint before j turns about an axis parallel to it
-    from kin.transforms import make_transform, rot_x, rot_z
-    T, zs = chain.base.matrix, []
-    for a, alpha, d, theta in chain.dh_table():
-        zs.append(T[:3, 2].copy())
-        T = T @ make_transform(rot_z(theta)) @ make_transform(None, [0.0, 0.0, d]) @ make_transform(rot_x(alpha),
-                                                                                                    [a, 0.0, 0.0])
+    zs = body_frames(chain, np.zeros((1, n)))[0, :n, :3, 2]      # DH frames 0 … n−1
     gu = np.asarray(chain.gravity, float) / g if g > 0 else np.zeros(3)
     out = np.zeros(n)
     for j in range(n):
