@@ -35,8 +35,8 @@ from kin.modules.catalogue import (
     Part,
     _same_angle,
 )
-from kin.robotfile import MAX_LENGTH, MAX_TORQUE, _Reader
-from kin.transforms import make_transform, rigidity_defect, rot_y, rpy_to_matrix
+from kin.robotfile import MAX_LENGTH, MAX_TORQUE, _placement, _Reader
+from kin.transforms import make_transform, rot_y
 
 __all__ = ["load_catalogue", "loads_catalogue", "catalogue_path", "bundled_catalogues"]
 
@@ -54,15 +54,9 @@ class _CatReader(_Reader):
 
 
 def _frame(r: _CatReader, raw: Any, fld: str, ls: float, as_: float) -> np.ndarray:
-    r.table(raw, fld, FRAME_FIELDS)
-    xyz = r.vector(raw.get("xyz", [0.0, 0.0, 0.0]), f"{fld}.xyz", 3)
-    rpy = r.vector(raw.get("rpy", [0.0, 0.0, 0.0]), f"{fld}.rpy", 3)
-    p = [r.length(x, f"{fld}.xyz[{i}]", ls) for i, x in enumerate(xyz)]
-    a = [r.angle(x, f"{fld}.rpy[{i}]", as_) for i, x in enumerate(rpy)]
-    T = make_transform(rpy_to_matrix(a), p)
-    if rigidity_defect(T) > 1e-9:      # cannot happen for finite rpy; kept as a guard
-        raise r.fail(fld, "is not a rigid transform")
-    return T
+    """A frame ``{xyz, rpy}`` (file units) as a 4×4 (SI), read as a robot file's placement is."""
+    r.table(raw, fld, FRAME_FIELDS)          # xyz and rpy only: no `matrix` here
+    return _placement(r, raw, fld, ls, as_).matrix
 
 
 def _point(r: _CatReader, v: Any, fld: str, ls: float) -> tuple[float, float, float]:
