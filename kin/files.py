@@ -26,7 +26,7 @@ import numpy as np
 
 from kin.errors import RmtError
 
-__all__ = ["FileReadError", "read_bytes", "read_text", "read_json", "json_depth",
+__all__ = ["FileReadError", "read_bytes", "read_text", "read_json", "json_depth", "named_file",
            "MAX_JSON_DEPTH", "MAX_INT_DIGITS"]
 
 #: default nesting bound of :func:`read_json` (every rmtkit JSON file nests a handful of levels)
@@ -44,6 +44,16 @@ class FileReadError(RmtError):
     def __init__(self, path: str | Path, reason: str):
         self.path, self.reason = str(path), reason
         super().__init__(f"{path}: {reason}")
+
+
+def named_file(name_or_path: str | Path, directory: Path) -> tuple[Path, bool]:
+    """Where a bundled file's name or a path points: ``(path, given)``.  It is a path (``given``) when it
+    looks like one — a ``.toml`` suffix, an existing file, or a "/" in it — else ``directory/NAME.toml``.
+    The file may not exist: the caller words that error for its kind of file."""
+    p = Path(name_or_path)
+    if p.suffix == ".toml" or p.exists() or "/" in str(name_or_path):
+        return p, True
+    return Path(directory) / f"{name_or_path}.toml", False
 
 
 def _size_text(n: int) -> str:

@@ -79,14 +79,12 @@ MAX_ROBOT_BYTES = 10 * 2**20
 
 def robot_path(name_or_path: str | Path) -> Path:
     """Resolve a bundled robot name or a file path to an existing file path."""
-    p = Path(name_or_path)
-    if p.suffix == ".toml" or p.exists() or "/" in str(name_or_path):
-        if not p.is_file():
-            raise UnknownRobotError(f"{name_or_path}: no such robot file")
+    from kin.files import named_file
+    p, given = named_file(name_or_path, ROBOT_DIR)
+    if p.is_file():
         return p
-    bundled = ROBOT_DIR / f"{name_or_path}.toml"
-    if bundled.is_file():
-        return bundled
+    if given:
+        raise UnknownRobotError(f"{name_or_path}: no such robot file")
     raise UnknownRobotError(f"unknown robot {str(name_or_path)!r}; bundled robots: {', '.join(bundled_robots())} "
                             "(or give a path to a .toml file)")
 

@@ -342,14 +342,12 @@ def bundled_catalogues() -> list[str]:
 
 def catalogue_path(name_or_path: str | Path) -> Path:
     """A bundled catalogue's name or a file path → an existing file's path."""
-    p = Path(name_or_path)
-    if p.suffix == ".toml" or p.exists() or "/" in str(name_or_path):
-        if not p.is_file():
-            raise CatalogueError("no such catalogue file", str(name_or_path))
+    from kin.files import named_file
+    p, given = named_file(name_or_path, CATALOGUE_DIR)
+    if p.is_file():
         return p
-    bundled = CATALOGUE_DIR / f"{name_or_path}.toml"
-    if bundled.is_file():
-        return bundled
+    if given:
+        raise CatalogueError("no such catalogue file", str(name_or_path))
     raise CatalogueError(f"unknown catalogue {str(name_or_path)!r}; bundled: "
                          f"{', '.join(bundled_catalogues()) or 'none'} (or give a path to a .toml file)")
 
