@@ -96,16 +96,22 @@ def read_bytes(path: str | Path, what: str, max_bytes: int) -> bytes:
     return data
 
 
-def read_text(path: str | Path, what: str, max_bytes: int) -> str:
+def read_text(path: str | Path, what: str, max_bytes: int, error: type | None = None) -> str:
     """The UTF-8 text of ``path`` (:func:`read_bytes`); a leading byte-order mark is dropped, a byte
-    that is not UTF-8 is reported with its offset."""
-    data = read_bytes(path, what, max_bytes)
+    that is not UTF-8 is reported with its offset.  ``error``: a caller's error class, built as
+    ``error(reason, str(path))``, that a :class:`FileReadError` is raised as instead."""
     try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError as e:
-        line = data.count(b"\n", 0, e.start) + 1
-        raise FileReadError(path, f"not UTF-8 text (byte 0x{data[e.start]:02x} at offset {e.start}, line {line}); "
-                                  f"a {what} must be UTF-8 text") from None
+        data = read_bytes(path, what, max_bytes)
+        try:
+            return data.decode("utf-8-sig")
+        except UnicodeDecodeError as e:
+            line = data.count(b"\n", 0, e.start) + 1
+            raise FileReadError(path, f"not UTF-8 text (byte 0x{data[e.start]:02x} at offset {e.start}, line "
+                                      f"{line}); a {what} must be UTF-8 text") from None
+    except FileReadError as e:
+        if error is None:
+            raise
+        raise error(e.reason, str(path)) from None
 
 
 def json_depth(text: str | bytes) -> int:

@@ -91,12 +91,9 @@ def robot_path(name_or_path: str | Path) -> Path:
 
 def load_chain(name_or_path: str | Path) -> Chain:
     """Load a bundled robot by name, or a robot file by path, into a :class:`Chain` (SI units)."""
-    from kin.files import FileReadError, read_text
+    from kin.files import read_text
     path = robot_path(name_or_path)
-    try:
-        text = read_text(path, "robot file", MAX_ROBOT_BYTES)
-    except FileReadError as e:
-        raise RobotFileError(e.reason, str(path)) from None
+    text = read_text(path, "robot file", MAX_ROBOT_BYTES, error=RobotFileError)
     return loads_robot(text, str(path))
 
 

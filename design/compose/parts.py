@@ -131,12 +131,9 @@ class Part:
 
 def load_part(path: str | Path) -> Part:
     """Read a part file (module text); relative file names in it are relative to its folder."""
-    from kin.files import FileReadError, read_text
+    from kin.files import read_text
     p = Path(path)
-    try:
-        text = read_text(p, "part file", MAX_TASK_BYTES)
-    except FileReadError as e:
-        raise TaskError(e.reason, str(p)) from None
+    text = read_text(p, "part file", MAX_TASK_BYTES, error=TaskError)
     return loads_part(text, str(p), p.parent)
 
 

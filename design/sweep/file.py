@@ -84,12 +84,9 @@ class _SweepReader(_Reader):
 def load_sweep(path: str | Path) -> Sweep:
     """Read a sweep file; its ``task`` is a path relative to the sweep file's folder."""
     from design.task.file import MAX_TASK_BYTES
-    from kin.files import FileReadError, read_text
+    from kin.files import read_text
     p = Path(path)
-    try:
-        text = read_text(p, "sweep file", MAX_TASK_BYTES)
-    except FileReadError as e:
-        raise SweepError(e.reason, str(p)) from None
+    text = read_text(p, "sweep file", MAX_TASK_BYTES, error=SweepError)
     return loads_sweep(text, str(p), p.parent)
 
 

@@ -71,12 +71,9 @@ class _Reader(robotfile._Reader):
 def load_task(path: str | Path, robot: kin.Robot | None = None) -> Task:
     """Read a task file; relative file names in it are relative to the task file's folder.
     ``robot`` overrides the file's ``robot`` entry (used by the architecture enumeration)."""
-    from kin.files import FileReadError, read_text
+    from kin.files import read_text
     p = Path(path)
-    try:
-        text = read_text(p, "task file", MAX_TASK_BYTES)
-    except FileReadError as e:
-        raise TaskError(e.reason, str(p)) from None
+    text = read_text(p, "task file", MAX_TASK_BYTES, error=TaskError)
     return loads_task(text, str(p), p.parent, robot)
 
 

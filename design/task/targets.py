@@ -55,11 +55,8 @@ def shell_points(center, r_inner: float, r_outer: float, count) -> np.ndarray:
 
 def read_points_csv(path: Path, scale: float) -> tuple[np.ndarray, np.ndarray | None]:
     """Points CSV (header optional; columns x, y, z and optionally ax, ay, az) → (positions m, axes or None)."""
-    from kin.files import FileReadError, read_text
-    try:
-        text = read_text(path, "points file", MAX_POINTS_BYTES)
-    except FileReadError as e:
-        raise TaskError(e.reason, str(path)) from None
+    from kin.files import read_text
+    text = read_text(path, "points file", MAX_POINTS_BYTES, error=TaskError)
     rows = []
     for ln, row in enumerate(csv.reader(text.splitlines()), 1):
         if not row or not "".join(row).strip() or row[0].lstrip().startswith("#"):

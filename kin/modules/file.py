@@ -354,10 +354,7 @@ def catalogue_path(name_or_path: str | Path) -> Path:
 
 def load_catalogue(name_or_path: str | Path) -> Catalogue:
     """Load a bundled catalogue by name, or a catalogue file by path (SI)."""
-    from kin.files import FileReadError, read_text
+    from kin.files import read_text
     path = catalogue_path(name_or_path)
-    try:
-        text = read_text(path, "module catalogue", MAX_CATALOGUE_BYTES)
-    except FileReadError as e:
-        raise CatalogueError(e.reason, str(path)) from None
+    text = read_text(path, "module catalogue", MAX_CATALOGUE_BYTES, error=CatalogueError)
     return loads_catalogue(text, str(path))

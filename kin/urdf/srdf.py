@@ -34,7 +34,7 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
 
-from kin.files import FileReadError, read_text
+from kin.files import read_text
 from kin.urdf.errors import UrdfError
 
 __all__ = ["MAX_BYTES", "GroupState", "read_root", "disabled_link_pairs", "group_states", "chain_states",
@@ -47,10 +47,7 @@ MAX_BYTES = 10 * 2**20
 def read_root(path: str | Path) -> ET.Element:
     """The ``<robot>`` element of an SRDF file (size, encoding and document type checked)."""
     path = Path(path)
-    try:
-        text = read_text(path, "SRDF file", MAX_BYTES)
-    except FileReadError as e:
-        raise UrdfError(e.reason, str(path)) from None
+    text = read_text(path, "SRDF file", MAX_BYTES, error=UrdfError)
     if re.search(r"<!DOCTYPE|<!ENTITY", text, re.IGNORECASE):
         raise UrdfError("a document type declaration (<!DOCTYPE or <!ENTITY) is not read in an SRDF", str(path))
     try:
