@@ -23,10 +23,10 @@ from __future__ import annotations
 import time
 from typing import Callable, Sequence
 
-from design.compose.bounds import PartGeometry, holding_bound, module_extent, partial_reach_bound, screen, sketch
+from design.compose.bounds import PartGeometry, module_extent, partial_reach_bound, screen, sketch
 from design.compose.result import COUNT_KEYS, ComposeResult, Found, Verification
 from design.compose.space import ComposeSpace, Partial, Pruned
-from design.compose.verdict import ComposeSettings, Verdict, assembled, judge, verify
+from design.compose.verdict import ComposeSettings, Verdict, held, judge, verify
 from design.task.model import TaskError
 from kin.modules import Assembly, AssemblyError, Catalogue
 
@@ -147,7 +147,7 @@ def compose(catalogue: Catalogue, parts: Sequence, space: ComposeSpace, settings
                     counts["not_judged"] += 1
                     continue
             try:
-                why = holding_bound(assembled(catalogue, a))
+                why = held(catalogue, a)[1]
             except AssemblyError as e:          # a frame the DH extraction refuses: judged as such below
                 why = None
                 if len(notes) < 5:

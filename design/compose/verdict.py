@@ -127,10 +127,29 @@ def _farthest_first(robot, part, reach: ReachSettings, windows, far: int):
 
 
 #: reach-study outcomes of kinematic twins, per process: (id of the part, settings, twin key) → (reached all,
-#: reason, targets reached); the parts are kept alive beside them so that an id is never reused
+#: reason, targets reached); the parts (and catalogues, below) are kept alive beside them so that an id is
+#: never reused
 _TWINS: dict[tuple, tuple[bool, str, int]] = {}
 _TWIN_PARTS: dict[int, object] = {}
 _TWIN_LIMIT = 200_000
+#: each assembly's robot and holding verdict, per process: (id of the catalogue, assembly text) → (chain,
+#: holding_bound's reason or None) — the search's screen and every part's verdict ask for the same ones
+_HELD: dict[tuple, tuple[object, str | None]] = {}
+_HELD_LIMIT = 4096
+
+
+def held(catalogue: Catalogue, assembly: Assembly):
+    """(the assembly's robot, :func:`holding_bound`'s reason or None), built and checked once per process;
+    :class:`AssemblyError` if it cannot be assembled."""
+    key = (id(catalogue), assembly.text(catalogue))
+    hit = _HELD.get(key)
+    if hit is None:
+        if len(_HELD) >= _HELD_LIMIT:
+            _HELD.clear()
+        chain = assembled(catalogue, assembly)
+        hit = _HELD[key] = (chain, holding_bound(chain))
+        _TWIN_PARTS[id(catalogue)] = catalogue
+    return hit
 
 
 def _shape(m) -> tuple:
@@ -153,6 +172,7 @@ def twin_key(catalogue: Catalogue, assembly: Assembly) -> tuple:
 def _twin(part, settings, key) -> tuple:
     if len(_TWINS) > _TWIN_LIMIT:
         _TWINS.clear()
+        _HELD.clear()
         _TWIN_PARTS.clear()
     _TWIN_PARTS[id(part)] = part
     return (id(part), repr(settings.reach), key)
@@ -185,10 +205,9 @@ def judge(catalogue: Catalogue, assembly: Assembly, part, settings: ComposeSetti
             return verdict(stage, why)
     payload = part.cycle.payload if part.cycle is not None else 0.0
     try:
-        chain = assembled(catalogue, assembly)
+        chain, why = held(catalogue, assembly)
     except AssemblyError as e:
         return verdict("incompatible", str(e))
-    why = holding_bound(chain)
     if why:
         return verdict("holding", why)
     tk = _twin(part, settings, twin_key(catalogue, assembly))
